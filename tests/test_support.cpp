@@ -1,0 +1,96 @@
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include "vcg_ext/io/mesh_io.h"
+
+namespace testsupport {
+
+std::string SamplePath(const std::string& name) {
+  std::string p = std::string(FITMAP_DATA_DIR) + "/" + name;
+  std::ifstream f(p);
+  EXPECT_TRUE(f.good()) << "sample mesh missing: " << p << " (run scripts/setup.sh)";
+  return p;
+}
+
+vcgext::TriData LoadSample(const std::string& name) {
+  vcgext::TMesh m;
+  std::string err = vcgext::LoadMesh(SamplePath(name), m);
+  EXPECT_EQ(err, "");
+  vcgext::TriData d;
+  auto rep = vcgext::ImportTriangles(m, d);
+  EXPECT_EQ(rep.error, "");
+  return d;
+}
+
+vcgext::TriData PlaneGrid(int nx, int ny, double size) {
+  vcgext::TriData m;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) m.V.emplace_back(size * i / nx, size * j / ny, 0.0);
+  auto id = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      m.F.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.F.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+vcgext::TriData Icosphere(int level, double r) {
+  vcgext::TriData m;
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  double pts[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                       {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& p : pts) m.V.push_back(vcgext::Vec3(p[0], p[1], p[2]).normalized());
+  m.F = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+         {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+         {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < level; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      m.V.push_back((m.V[a] + m.V[b]).normalized());
+      return mid[key] = int(m.V.size()) - 1;
+    };
+    std::vector<vcgext::Tri> nf;
+    for (auto f : m.F) {
+      int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+      nf.push_back({f[0], a, c});
+      nf.push_back({f[1], b, a});
+      nf.push_back({f[2], c, b});
+      nf.push_back({a, b, c});
+    }
+    m.F.swap(nf);
+  }
+  for (auto& p : m.V) p *= r;
+  return m;
+}
+
+void ToVcg(const vcgext::TriData& d, vcgext::TMesh& m) {
+  m.Clear();
+  auto vi = vcg::tri::Allocator<vcgext::TMesh>::AddVertices(m, d.V.size());
+  for (size_t i = 0; i < d.V.size(); ++i, ++vi)
+    vi->P() = vcg::Point3f(float(d.V[i][0]), float(d.V[i][1]), float(d.V[i][2]));
+  auto fi = vcg::tri::Allocator<vcgext::TMesh>::AddFaces(m, d.F.size());
+  for (size_t i = 0; i < d.F.size(); ++i, ++fi)
+    for (int k = 0; k < 3; ++k) fi->V(k) = &m.vert[d.F[i][k]];
+}
+
+std::string ScratchDir() {
+  static std::string dir;
+  if (dir.empty()) {
+    char tmpl[] = "/tmp/fitmap_test_XXXXXX";
+    char* d = mkdtemp(tmpl);
+    dir = d ? d : "/tmp";
+  }
+  return dir;
+}
+
+}  // namespace testsupport

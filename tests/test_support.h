@@ -1,0 +1,30 @@
+#pragma once
+/// Shared test helpers: sample-scan paths, analytic meshes, conversions.
+#include <string>
+
+#include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/core/mesh_types.h"
+
+namespace testsupport {
+
+/// Absolute path of a libcgal-demo sample mesh (e.g. "bunny00.off"); fails the test if missing.
+std::string SamplePath(const std::string& name);
+/// Loads a sample mesh as arrays (ASSERTs inside on failure).
+vcgext::TriData LoadSample(const std::string& name);
+/// A regular nx × ny grid of the unit square [0,1]^2 at z = 0 (2·nx·ny triangles), scaled by `size`.
+vcgext::TriData PlaneGrid(int nx, int ny, double size = 1.0);
+/// Height field z = f(x, y) over [0,size]^2 sampled on an nx × ny grid.
+template <class F>
+vcgext::TriData HeightField(int nx, int ny, double size, F f) {
+  vcgext::TriData m = PlaneGrid(nx, ny, size);
+  for (auto& p : m.V) p[2] = f(p[0], p[1]);
+  return m;
+}
+/// Icosphere of radius r with `level` 1:4 subdivisions (20·4^level triangles).
+vcgext::TriData Icosphere(int level, double r = 1.0);
+/// Arrays -> vcg mesh (for testing the templated vcg entry points).
+void ToVcg(const vcgext::TriData& d, vcgext::TMesh& m);
+/// A scratch directory unique to this test process.
+std::string ScratchDir();
+
+}  // namespace testsupport

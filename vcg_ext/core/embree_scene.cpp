@@ -1,0 +1,159 @@
+#include "vcg_ext/core/embree_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+
+namespace vcgext {
+
+namespace {
+void ErrorHandler(void* user, RTCError code, const char* str) {
+  auto* msg = static_cast<std::string*>(user);
+  if (msg && msg->empty()) *msg = "Embree error " + std::to_string(int(code)) + ": " + (str ? str : "");
+}
+
+struct ClosestQuery {
+  const TriData* mesh;
+  EmbreeScene::Hit* best;
+  double bestD2;
+};
+
+bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<ClosestQuery*>(args->userPtr);
+  const auto& f = q->mesh->F[args->primID];
+  const Vec3 p(args->query->x, args->query->y, args->query->z);
+  double u, v;
+  Vec3 c = ClosestPointOnTriangle(p, q->mesh->V[f[0]], q->mesh->V[f[1]], q->mesh->V[f[2]], &u, &v);
+  double d2 = (c - p).squaredNorm();
+  if (d2 < q->bestD2) {
+    q->bestD2 = d2;
+    q->best->valid = true;
+    q->best->face = int(args->primID);
+    q->best->u = u;
+    q->best->v = v;
+    q->best->point = c;
+    q->best->t = std::sqrt(d2);
+    args->query->radius = float(std::sqrt(d2));
+    return true;  // the query radius shrank
+  }
+  return false;
+}
+}  // namespace
+
+EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
+  device_ = rtcNewDevice("threads=0");
+  if (!device_) { error_ = "Embree: cannot create a device"; return; }
+  rtcSetDeviceErrorFunction(device_, ErrorHandler, &error_);
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                         mesh_.V.size()));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
+                                                            RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                            mesh_.F.size()));
+  if (!vb || !ib) {
+    rtcReleaseGeometry(geom);
+    if (error_.empty()) error_ = "Embree: cannot allocate buffers";
+    return;
+  }
+  for (size_t i = 0; i < mesh_.V.size(); ++i)
+    for (int k = 0; k < 3; ++k) vb[3 * i + k] = float(mesh_.V[i][k]);
+  for (size_t i = 0; i < mesh_.F.size(); ++i)
+    for (int k = 0; k < 3; ++k) ib[3 * i + k] = unsigned(mesh_.F[i][k]);
+  rtcSetGeometryPointQueryFunction(geom, PointQueryFunc);
+  rtcCommitGeometry(geom);
+  RTCScene scene = rtcNewScene(device_);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  if (!error_.empty()) { rtcReleaseScene(scene); return; }
+  scene_ = scene;
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+EmbreeScene::Hit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double tnear,
+                                        double tfar) const {
+  Hit h;
+  if (!scene_) return h;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = float(org[0]); rh.ray.org_y = float(org[1]); rh.ray.org_z = float(org[2]);
+  rh.ray.dir_x = float(dir[0]); rh.ray.dir_y = float(dir[1]); rh.ray.dir_z = float(dir[2]);
+  rh.ray.tnear = float(tnear);
+  rh.ray.tfar = std::isfinite(tfar) ? float(tfar) : std::numeric_limits<float>::infinity();
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.flags = 0;
+  rh.ray.time = 0.f;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
+  h.valid = true;
+  h.t = rh.ray.tfar;
+  h.face = int(rh.hit.primID);
+  h.u = rh.hit.u;
+  h.v = rh.hit.v;
+  const auto& f = mesh_.F[h.face];
+  h.point = (1 - h.u - h.v) * mesh_.V[f[0]] + h.u * mesh_.V[f[1]] + h.v * mesh_.V[f[2]];
+  return h;
+}
+
+EmbreeScene::Hit EmbreeScene::IntersectLine(const Vec3& org, const Vec3& dir, double maxDist) const {
+  Hit fwd = Intersect(org, dir, 0.0, maxDist);
+  Hit bwd = Intersect(org, -dir, 0.0, fwd.valid ? fwd.t : maxDist);
+  if (bwd.valid) { bwd.t = -bwd.t; return bwd; }
+  return fwd;
+}
+
+EmbreeScene::Hit EmbreeScene::ClosestPoint(const Vec3& p, double maxDist) const {
+  Hit best;
+  if (!scene_) return best;
+  ClosestQuery q{&mesh_, &best, std::numeric_limits<double>::infinity()};
+  RTCPointQuery query;
+  query.x = float(p[0]); query.y = float(p[1]); query.z = float(p[2]);
+  query.radius = std::isfinite(maxDist) ? float(maxDist) : std::numeric_limits<float>::infinity();
+  query.time = 0.f;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(scene_, &query, &ctx, nullptr, &q);
+  return best;
+}
+
+Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double* u,
+                            double* v) {
+  // Ericson, Real-Time Collision Detection, §5.1.5 (Voronoi regions).
+  auto out = [&](double bu, double bv) {
+    if (u) *u = bu;
+    if (v) *v = bv;
+    return Vec3(a + bu * (b - a) + bv * (c - a));
+  };
+  Vec3 ab = b - a, ac = c - a, ap = p - a;
+  double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return out(0, 0);
+  Vec3 bp = p - b;
+  double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return out(1, 0);
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return out(d1 / (d1 - d3), 0);
+  Vec3 cp = p - c;
+  double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return out(0, 1);
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return out(0, d2 / (d2 - d6));
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return out(1 - w, w);
+  }
+  double denom = 1.0 / (va + vb + vc);
+  return out(vb * denom, vc * denom);
+}
+
+}  // namespace vcgext

@@ -1,0 +1,60 @@
+#pragma once
+/// \file embree_scene.h
+/// The project's single Embree 3 adapter: a triangle scene built once (RAII), queried many
+/// times from any number of threads (all query methods are const and thread-safe).
+/// Used for the Fitmaps' ray casts (paper §3.1.3), the projection phi along the limit normal
+/// (§3.2–3.5) and the displacement bake.
+#include "vcg_ext/core/indexed_mesh.h"
+
+#include <limits>
+#include <string>
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace vcgext {
+
+class EmbreeScene {
+ public:
+  /// Builds the BVH over `m` (vertices converted to float, as Embree requires).
+  /// On failure `Ok()` is false and `Error()` says why; queries then report no hit.
+  explicit EmbreeScene(const TriData& m);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  bool Ok() const { return scene_ != nullptr; }
+  const std::string& Error() const { return error_; }
+
+  struct Hit {
+    bool valid = false;
+    double t = 0;      ///< signed ray parameter (distance, for a unit direction)
+    int face = -1;     ///< index into the TriData's F
+    double u = 0, v = 0;  ///< barycentrics of corners 1 and 2 (corner 0 has 1-u-v)
+    Vec3 point = Vec3::Zero();
+  };
+
+  /// First hit of the ray org + t*dir, t in [tnear, tfar]. `dir` need not be unit.
+  Hit Intersect(const Vec3& org, const Vec3& dir, double tnear = 0.0,
+                double tfar = std::numeric_limits<double>::infinity()) const;
+  /// Nearest hit on the whole line through `org` along ±dir, within |t| <= maxDist
+  /// (`dir` unit): the paper's projection phi "along the normal", either side.
+  Hit IntersectLine(const Vec3& org, const Vec3& dir,
+                    double maxDist = std::numeric_limits<double>::infinity()) const;
+  /// Closest point on the surface within `maxDist` (Embree point query).
+  Hit ClosestPoint(const Vec3& p, double maxDist = std::numeric_limits<double>::infinity()) const;
+
+  const TriData& Mesh() const { return mesh_; }
+
+ private:
+  TriData mesh_;
+  RTCDeviceTy* device_ = nullptr;
+  RTCSceneTy* scene_ = nullptr;
+  std::string error_;
+};
+
+/// Closest point to p on triangle (a,b,c); returns it and the barycentrics (of b and c).
+Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                            double* u = nullptr, double* v = nullptr);
+
+}  // namespace vcgext

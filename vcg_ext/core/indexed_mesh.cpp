@@ -1,0 +1,91 @@
+#include "vcg_ext/core/indexed_mesh.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <limits>
+
+namespace vcgext {
+
+double BBoxDiagonal(const std::vector<Vec3>& V) {
+  if (V.empty()) return 0.0;
+  Vec3 lo = V[0], hi = V[0];
+  for (const auto& p : V) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+  return (hi - lo).norm();
+}
+
+double AverageEdgeLength(const TriData& m) {
+  double sum = 0.0;
+  long n = 0;
+  for (const auto& f : m.F)
+    for (int k = 0; k < 3; ++k) {
+      int a = f[k], b = f[(k + 1) % 3];
+      // each interior edge appears twice (once per orientation); boundary edges once:
+      // counting every half-edge gives the mean over half-edges, a negligible bias.
+      sum += (m.V[a] - m.V[b]).norm();
+      ++n;
+    }
+  return n ? sum / double(n) : 0.0;
+}
+
+double TotalArea(const TriData& m) {
+  double a = 0.0;
+  for (const auto& f : m.F) a += 0.5 * (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]).norm();
+  return a;
+}
+
+std::vector<Vec3> FaceNormals(const TriData& m) {
+  std::vector<Vec3> N(m.F.size());
+  for (size_t i = 0; i < m.F.size(); ++i) {
+    const auto& f = m.F[i];
+    Vec3 n = (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]);
+    double l = n.norm();
+    N[i] = l > 0 ? Vec3(n / l) : Vec3::Zero();
+  }
+  return N;
+}
+
+std::vector<Vec3> VertexNormals(const TriData& m) {
+  std::vector<Vec3> N(m.V.size(), Vec3::Zero());
+  for (const auto& f : m.F) {
+    Vec3 n = (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]);  // |n| = 2 * area
+    for (int k = 0; k < 3; ++k) N[f[k]] += n;
+  }
+  for (auto& n : N) {
+    double l = n.norm();
+    n = l > 0 ? Vec3(n / l) : Vec3::Zero();
+  }
+  return N;
+}
+
+Adjacency VertexFaceAdjacency(const std::vector<Tri>& F, int nV) {
+  Adjacency a;
+  a.offs.assign(nV + 1, 0);
+  for (const auto& f : F) for (int v : f) ++a.offs[v + 1];
+  for (int i = 0; i < nV; ++i) a.offs[i + 1] += a.offs[i];
+  a.idx.resize(a.offs[nV]);
+  std::vector<int> fill(a.offs.begin(), a.offs.end() - 1);
+  for (size_t fi = 0; fi < F.size(); ++fi) for (int v : F[fi]) a.idx[fill[v]++] = int(fi);
+  return a;
+}
+
+Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV) {
+  std::vector<std::vector<int>> nb(nV);
+  for (const auto& f : F)
+    for (int k = 0; k < 3; ++k) {
+      nb[f[k]].push_back(f[(k + 1) % 3]);
+      nb[f[k]].push_back(f[(k + 2) % 3]);
+    }
+  Adjacency a;
+  a.offs.assign(nV + 1, 0);
+  for (int i = 0; i < nV; ++i) {
+    auto& l = nb[i];
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    a.offs[i + 1] = a.offs[i] + int(l.size());
+  }
+  a.idx.reserve(a.offs[nV]);
+  for (auto& l : nb) a.idx.insert(a.idx.end(), l.begin(), l.end());
+  return a;
+}
+
+}  // namespace vcgext

@@ -1,0 +1,118 @@
+#pragma once
+/// \file indexed_mesh.h
+/// Plain indexed triangle / quad arrays (double precision) that the algorithm cores work on,
+/// plus the templated bridge from any vcglib triangle mesh (CMeshO in MeshLab, vcgext::TMesh in
+/// tests). The bridge validates the input and says what is wrong instead of asserting.
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace vcgext {
+
+using Vec3 = Eigen::Vector3d;
+using Tri = std::array<int, 3>;
+using Quad = std::array<int, 4>;
+
+/// A triangle mesh as arrays. `vcgIndex[i]` is the position of vertex i among the live
+/// (non-deleted) vertices of the vcg mesh it came from, so results can be written back.
+struct TriData {
+  std::vector<Vec3> V;
+  std::vector<Tri> F;
+};
+
+/// A pure-quad mesh as arrays (counter-clockwise corners).
+struct QuadData {
+  std::vector<Vec3> V;
+  std::vector<Quad> F;
+};
+
+/// Axis-aligned bounding box diagonal of a point set (0 for an empty set).
+double BBoxDiagonal(const std::vector<Vec3>& V);
+/// Mean length of the mesh's edges, each undirected edge counted once.
+double AverageEdgeLength(const TriData& m);
+/// Total area of the triangles.
+double TotalArea(const TriData& m);
+/// Area-weighted vertex normals (unit; zero for unreferenced/degenerate vertices).
+std::vector<Vec3> VertexNormals(const TriData& m);
+/// Unit face normals (zero for degenerate faces).
+std::vector<Vec3> FaceNormals(const TriData& m);
+
+/// Compressed adjacency lists (CSR): neighbours of i are idx[offs[i] .. offs[i+1]).
+struct Adjacency {
+  std::vector<int> offs, idx;
+  int Count(int i) const { return offs[i + 1] - offs[i]; }
+  const int* Begin(int i) const { return idx.data() + offs[i]; }
+  const int* End(int i) const { return idx.data() + offs[i + 1]; }
+};
+/// Vertex -> incident faces.
+Adjacency VertexFaceAdjacency(const std::vector<Tri>& F, int nV);
+/// Vertex -> adjacent vertices (each once, through any incident face).
+Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV);
+
+/// Outcome of reading a vcg layer. `error` is empty on success.
+struct ImportReport {
+  std::string error;
+  int deletedSkipped = 0;   ///< deleted vertices/faces that were ignored
+  int degenerateFaces = 0;  ///< faces with repeated vertices (kept out of F)
+  int unreferenced = 0;     ///< vertices used by no face (kept in V)
+};
+
+/// Copies the live vertices and faces of a vcg triangle mesh into `out`.
+/// Errors (nothing written to `out` is meaningful then): empty layer, point cloud (no faces),
+/// polygonal faces (faux edges, when `allowPolygonal` is false), non-finite coordinates.
+/// Faces with a repeated vertex index are dropped and counted.
+template <class MeshType>
+ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygonal = false) {
+  ImportReport rep;
+  out.V.clear();
+  out.F.clear();
+  std::vector<int> remap(m.vert.size(), -1);
+  int nonFinite = 0, firstBad = -1;
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    if (m.vert[i].IsD()) { ++rep.deletedSkipped; continue; }
+    const auto& p = m.vert[i].cP();
+    Vec3 q{double(p[0]), double(p[1]), double(p[2])};
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
+      if (firstBad < 0) firstBad = int(out.V.size());
+      ++nonFinite;
+    }
+    remap[i] = int(out.V.size());
+    out.V.push_back(q);
+  }
+  if (out.V.empty()) { rep.error = "the layer is empty (no vertices)"; return rep; }
+  int faux = 0, live = 0;
+  std::vector<char> used(out.V.size(), 0);
+  for (const auto& f : m.face) {
+    if (f.IsD()) { ++rep.deletedSkipped; continue; }
+    ++live;
+    for (int k = 0; k < 3; ++k) if (f.IsF(k)) ++faux;
+    Tri t;
+    for (int k = 0; k < 3; ++k) t[k] = remap[f.cV(k) - &m.vert[0]];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++rep.degenerateFaces; continue; }
+    for (int k = 0; k < 3; ++k) used[t[k]] = 1;
+    out.F.push_back(t);
+  }
+  if (live == 0) {
+    rep.error = "the layer is a point cloud (" + std::to_string(out.V.size()) +
+                " vertices, no faces): a triangle mesh is needed";
+    return rep;
+  }
+  if (faux > 0 && !allowPolygonal) {
+    rep.error = "the layer has polygonal faces (" + std::to_string(faux / 2) +
+                " faux edges): a triangle mesh is needed (Filters > Polygonal and Quad Mesh > "
+                "Turn into a Pure-Triangular mesh)";
+    return rep;
+  }
+  if (nonFinite > 0) {
+    rep.error = std::to_string(nonFinite) + " vertices have NaN or infinite coordinates (first: vertex " +
+                std::to_string(firstBad) + ")";
+    return rep;
+  }
+  if (out.F.empty()) { rep.error = "all faces are degenerate"; return rep; }
+  for (char u : used) rep.unreferenced += u ? 0 : 1;
+  return rep;
+}
+
+}  // namespace vcgext

@@ -1,0 +1,64 @@
+#include "vcg_ext/io/mesh_io.h"
+
+#include <wrap/io_trimesh/export_obj.h>
+#include <wrap/io_trimesh/export_off.h>
+#include <wrap/io_trimesh/export_ply.h>
+#include <wrap/io_trimesh/import_obj.h>
+#include <wrap/io_trimesh/import_off.h>
+#include <wrap/io_trimesh/import_ply.h>
+
+#include <algorithm>
+#include <cctype>
+
+namespace vcgext {
+
+namespace {
+std::string Ext(const std::string& path) {
+  auto dot = path.find_last_of('.');
+  std::string e = dot == std::string::npos ? "" : path.substr(dot + 1);
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
+}
+}  // namespace
+
+std::string LoadMesh(const std::string& path, TMesh& m) {
+  m.Clear();
+  const std::string e = Ext(path);
+  int err = 0;
+  if (e == "off") {
+    err = vcg::tri::io::ImporterOFF<TMesh>::Open(m, path.c_str());
+    if (err) return std::string("cannot read OFF ") + path + ": " + vcg::tri::io::ImporterOFF<TMesh>::ErrorMsg(err);
+  } else if (e == "ply") {
+    err = vcg::tri::io::ImporterPLY<TMesh>::Open(m, path.c_str());
+    if (err) return std::string("cannot read PLY ") + path + ": " + vcg::tri::io::ImporterPLY<TMesh>::ErrorMsg(err);
+  } else if (e == "obj") {
+    int mask = 0;
+    err = vcg::tri::io::ImporterOBJ<TMesh>::Open(m, path.c_str(), mask);
+    if (err && !vcg::tri::io::ImporterOBJ<TMesh>::ErrorCritical(err)) err = 0;
+    if (err) return std::string("cannot read OBJ ") + path + ": " + vcg::tri::io::ImporterOBJ<TMesh>::ErrorMsg(err);
+  } else {
+    return "unsupported mesh format: " + path;
+  }
+  return "";
+}
+
+std::string SaveMesh(const std::string& path, TMesh& m, bool withQuality, bool withColor) {
+  const std::string e = Ext(path);
+  int mask = 0;
+  if (withQuality) mask |= vcg::tri::io::Mask::IOM_VERTQUALITY;
+  if (withColor) mask |= vcg::tri::io::Mask::IOM_VERTCOLOR;
+  int err = 0;
+  if (e == "ply") {
+    mask |= vcg::tri::io::Mask::IOM_BITPOLYGONAL;
+    err = vcg::tri::io::ExporterPLY<TMesh>::Save(m, path.c_str(), mask, true);
+  } else if (e == "off") {
+    err = vcg::tri::io::ExporterOFF<TMesh>::Save(m, path.c_str(), mask);
+  } else if (e == "obj") {
+    err = vcg::tri::io::ExporterOBJ<TMesh>::Save(m, path.c_str(), mask);
+  } else {
+    return "unsupported mesh format: " + path;
+  }
+  return err ? "cannot write " + path : "";
+}
+
+}  // namespace vcgext
