@@ -1,0 +1,91 @@
+#include "filter_fitmap_quad.h"
+
+#include <exception>
+
+#include "filter_table.h"
+#include "glue.h"
+
+using namespace fitmapquad;
+
+namespace {
+
+const FilterSpec kFilters[] = {
+    {FP_COMPUTE_FITMAPS, "Compute Fitmaps",
+     "Computes the Fitmaps of Panozzo et al. 2011 (§3.1) on a triangle mesh: per vertex, the "
+     "S-fitmap (how fast the error of a single cubic patch grows with its radius, a^(1/4) of "
+     "E(r) = a r^4; unit 1/length) and the M-fitmap (the largest patch radius whose normal "
+     "projection onto the mesh stays valid within tolerance tau). Both are stored as per-vertex "
+     "attributes (FitmapS, FitmapM) for the quad simplification; the chosen one is copied to "
+     "the vertex quality and colour-mapped.",
+     MeshFilterInterface::Quality | MeshFilterInterface::Remeshing},
+};
+
+const FilterSpec* Spec(int id) {
+  for (const auto& f : kFilters)
+    if (f.id == id) return &f;
+  return nullptr;
+}
+
+}  // namespace
+
+FilterFitmapQuadPlugin::FilterFitmapQuadPlugin() {
+  for (const auto& f : kFilters) {
+    typeList << f.id;
+    actionList << new QAction(QString(f.name), this);
+  }
+}
+
+FilterFitmapQuadPlugin::~FilterFitmapQuadPlugin() = default;
+
+QString FilterFitmapQuadPlugin::filterName(FilterIDType id) const {
+  const FilterSpec* s = Spec(id);
+  return s ? QString(s->name) : QString("unknown filter");
+}
+
+QString FilterFitmapQuadPlugin::filterInfo(FilterIDType id) const {
+  const FilterSpec* s = Spec(id);
+  return s ? QString(s->info) : QString();
+}
+
+MeshFilterInterface::FilterClass FilterFitmapQuadPlugin::getClass(QAction* a) {
+  const FilterSpec* s = Spec(ID(a));
+  return s ? FilterClass(s->classes) : MeshFilterInterface::Remeshing;
+}
+
+MeshFilterInterface::FILTER_ARITY FilterFitmapQuadPlugin::filterArity(QAction*) const {
+  return SINGLE_MESH;
+}
+
+int FilterFitmapQuadPlugin::getPreConditions(QAction*) const { return MeshModel::MM_NONE; }
+
+int FilterFitmapQuadPlugin::postCondition(QAction* a) const {
+  switch (ID(a)) {
+    case FP_COMPUTE_FITMAPS:
+      return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+  }
+  return MeshModel::MM_ALL;
+}
+
+void FilterFitmapQuadPlugin::initParameterSet(QAction* a, MeshDocument& md, RichParameterList& par) {
+  switch (ID(a)) {
+    case FP_COMPUTE_FITMAPS: InitFitmapsParams(md, par); break;
+  }
+}
+
+bool FilterFitmapQuadPlugin::applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par,
+                                         vcg::CallBackPos* cb) {
+  if (md.mm() == nullptr) {
+    errorMessage = "no current layer";
+    Log("Error: no current layer");
+    return false;
+  }
+  GlueContext ctx{md, par, cb, [this](const std::string& s) { Log(s); }, errorMessage};
+  try {
+    switch (ID(a)) {
+      case FP_COMPUTE_FITMAPS: return ApplyFitmaps(ctx);
+    }
+  } catch (const std::exception& e) {
+    return ctx.Fail(std::string("internal error: ") + e.what());
+  }
+  return ctx.Fail("unknown filter");
+}

@@ -1,0 +1,48 @@
+#include "e2e_support.h"
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+
+#include "test_support.h"
+
+namespace e2e {
+
+RunResult Run(const std::string& cmd) {
+  RunResult r;
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  int st = pclose(p);
+  r.exitCode = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string Q(const std::string& s) {
+  std::string o = "'";
+  for (char c : s) o += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return o + "'";
+}
+
+RunResult Meshlabserver(const std::string& args) {
+  return Run(Q(std::string(FITMAP_SOURCE_DIR) + "/scripts/meshlabserver.sh") + " " + args);
+}
+
+std::string OutPath(const std::string& name) { return testsupport::ScratchDir() + "/" + name; }
+
+std::vector<std::string> MlxScripts() {
+  std::vector<std::string> out;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(FITMAP_SOURCE_DIR) + "/meshlab_scripts"))
+    if (e.path().extension() == ".mlx") out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string Script(const std::string& name) { return std::string(FITMAP_SOURCE_DIR) + "/meshlab_scripts/" + name; }
+
+}  // namespace e2e

@@ -1,0 +1,26 @@
+#pragma once
+/// End-to-end helpers: run the installed plugin through headless meshlabserver / meshlab.
+#include <string>
+#include <vector>
+
+namespace e2e {
+
+struct RunResult {
+  int exitCode = -1;
+  std::string output;  ///< stdout + stderr
+};
+
+/// Runs a shell command, capturing stdout+stderr.
+RunResult Run(const std::string& cmd);
+/// Runs scripts/meshlabserver.sh with `args` (already shell-quoted where needed).
+RunResult Meshlabserver(const std::string& args);
+/// `dir`/`name`, creating `dir` if needed.
+std::string OutPath(const std::string& name);
+/// All files in meshlab_scripts/ ending with .mlx (basenames, sorted).
+std::vector<std::string> MlxScripts();
+/// Absolute path of meshlab_scripts/<name>.
+std::string Script(const std::string& name);
+/// Quotes a string for /bin/sh.
+std::string Q(const std::string& s);
+
+}  // namespace e2e

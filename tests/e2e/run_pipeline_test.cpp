@@ -1,0 +1,39 @@
+// meshlab_scripts/run_pipeline.sh end to end on a real scan (set-up skipped: ctest runs after it).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "e2e_support.h"
+#include "test_support.h"
+#include "vcg_ext/io/mesh_io.h"
+
+namespace {
+
+std::string Pipeline() { return e2e::Q(e2e::Script("run_pipeline.sh")); }
+
+TEST(RunPipeline, WritesColourMappedFitmapOnElephant) {
+  const std::string outdir = e2e::OutPath("pipeline_elephant");
+  auto r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " --tau 5 " +
+                    e2e::Q(testsupport::SamplePath("elephant.off")) + " " + e2e::Q(outdir));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  vcgext::TMesh m;
+  ASSERT_EQ(vcgext::LoadMesh(outdir + "/fitmap.ply", m), "");
+  EXPECT_EQ(m.vn, 2775);
+  double sum = 0;
+  for (const auto& v : m.vert) {
+    ASSERT_TRUE(std::isfinite(v.cQ()));
+    sum += v.cQ();
+  }
+  EXPECT_GT(sum, 0.0);
+}
+
+TEST(RunPipeline, RejectsBadArguments) {
+  auto r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " --tau abc");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--tau takes a number"), std::string::npos) << r.output;
+  r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " /nonexistent/mesh.off " + e2e::Q(e2e::OutPath("x")));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("input not found"), std::string::npos) << r.output;
+}
+
+}  // namespace
