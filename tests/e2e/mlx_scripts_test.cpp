@@ -63,6 +63,7 @@ TEST(MlxScripts, FitmapsRejectsPointCloudAndKeepsLayer) {
   const std::string out = e2e::OutPath("cloud_out.ply");
   auto r = e2e::Meshlabserver("-i " + e2e::Q(in) + " -o " + e2e::Q(out) + " -m vq -s " +
                               e2e::Q(e2e::Script("fitmaps.mlx")));
+  EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("point cloud"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("Segmentation"), std::string::npos) << r.output;
 }
