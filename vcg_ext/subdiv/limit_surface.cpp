@@ -1,0 +1,359 @@
+#include "vcg_ext/subdiv/limit_surface.h"
+
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <unordered_map>
+
+namespace vcgext {
+
+namespace osd = OpenSubdiv::OPENSUBDIV_VERSION;
+
+struct LimitSurface::Impl {
+  std::vector<osd::Bfr::Surface<double>> surfaces;  ///< one per base face, read-only after Build
+  std::vector<int> cvOffs;                           ///< control-point indices of face f: cvIdx[cvOffs[f]..cvOffs[f+1])
+  std::vector<int> cvIdx;
+  int maxCV = 0;
+};
+
+namespace {
+
+inline std::uint64_t EdgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+
+struct UnionFind {
+  std::vector<int> p;
+  explicit UnionFind(int n) : p(n) { std::iota(p.begin(), p.end(), 0); }
+  int Find(int x) {
+    while (p[x] != x) x = p[x] = p[p[x]];
+    return x;
+  }
+  void Join(int a, int b) { p[Find(a)] = Find(b); }
+};
+
+}  // namespace
+
+LimitSurface::LimitSurface(LimitSurface&&) noexcept = default;
+LimitSurface& LimitSurface::operator=(LimitSurface&&) noexcept = default;
+LimitSurface::~LimitSurface() = default;
+
+LimitSurface::LimitSurface(int numVertices, const std::vector<int>& faceSizes, const std::vector<int>& faceVerts,
+                           const LimitSurfaceOptions& opt)
+    : opt_(opt) {
+  Build(numVertices, faceSizes, faceVerts);
+}
+
+LimitSurface LimitSurface::FromQuads(const QuadData& q, LimitSurfaceOptions opt) {
+  opt.scheme = SubdivScheme::CatmullClark;
+  std::vector<int> sizes(q.F.size(), 4), verts;
+  verts.reserve(q.F.size() * 4);
+  for (const auto& f : q.F) verts.insert(verts.end(), f.begin(), f.end());
+  LimitSurface s;
+  s.opt_ = opt;
+  s.Build(int(q.V.size()), sizes, verts);
+  return s;
+}
+
+LimitSurface LimitSurface::FromTriangles(const TriData& t, LimitSurfaceOptions opt) {
+  opt.scheme = SubdivScheme::Loop;
+  std::vector<int> sizes(t.F.size(), 3), verts;
+  verts.reserve(t.F.size() * 3);
+  for (const auto& f : t.F) verts.insert(verts.end(), f.begin(), f.end());
+  LimitSurface s;
+  s.opt_ = opt;
+  s.Build(int(t.V.size()), sizes, verts);
+  return s;
+}
+
+std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
+  const bool loop = opt_.scheme == SubdivScheme::Loop;
+  if (nV <= 0) return "the control mesh has no vertices";
+  if (sizes.empty()) return "the control mesh has no faces";
+  size_t total = 0;
+  int badSize = 0, firstBadSize = -1;
+  for (size_t f = 0; f < sizes.size(); ++f) {
+    bool bad = loop ? sizes[f] != 3 : sizes[f] < 3;
+    if (bad) { if (firstBadSize < 0) firstBadSize = int(f); ++badSize; }
+    total += size_t(std::max(sizes[f], 0));
+  }
+  if (badSize)
+    return std::to_string(badSize) + " faces have an invalid size (" +
+           (loop ? std::string("Loop needs triangles") : std::string("at least 3 corners")) + "; first: face " +
+           std::to_string(firstBadSize) + " with " + std::to_string(sizes[firstBadSize]) + " corners)";
+  if (total != verts.size())
+    return "face sizes add up to " + std::to_string(total) + " corners but " + std::to_string(verts.size()) +
+           " vertex indices were given";
+  int badIdx = 0, firstBadIdx = -1, rep = 0, firstRep = -1;
+  for (size_t f = 0, o = 0; f < sizes.size(); o += sizes[f], ++f) {
+    for (int k = 0; k < sizes[f]; ++k) {
+      int a = verts[o + k];
+      if (a < 0 || a >= nV) { if (firstBadIdx < 0) firstBadIdx = int(f); ++badIdx; }
+      for (int j = 0; j < k; ++j)
+        if (verts[o + j] == a) { if (firstRep < 0) firstRep = int(f); ++rep; }
+    }
+  }
+  if (badIdx)
+    return std::to_string(badIdx) + " face corners reference a vertex out of range [0," + std::to_string(nV) +
+           ") (first: face " + std::to_string(firstBadIdx) + ")";
+  if (rep)
+    return std::to_string(rep) + " faces repeat a vertex (first: face " + std::to_string(firstRep) + ")";
+
+  // Edges: each directed edge at most once, each undirected edge in at most two faces.
+  struct EdgeInfo { int count = 0; int f0 = -1, k0 = -1, f1 = -1, k1 = -1; int a0 = -1; };
+  std::unordered_map<std::uint64_t, EdgeInfo> edges;
+  edges.reserve(verts.size());
+  int nonMan = 0, flipped = 0;
+  std::pair<int, int> firstNonMan{-1, -1}, firstFlip{-1, -1};
+  for (size_t f = 0, o = 0; f < sizes.size(); o += sizes[f], ++f) {
+    const int n = sizes[f];
+    for (int k = 0; k < n; ++k) {
+      int a = verts[o + k], b = verts[o + (k + 1) % n];
+      EdgeInfo& e = edges[EdgeKey(a, b)];
+      ++e.count;
+      if (e.count == 1) { e.f0 = int(f); e.k0 = k; e.a0 = a; }
+      else if (e.count == 2) {
+        e.f1 = int(f); e.k1 = k;
+        if (e.a0 == a) { if (firstFlip.first < 0) firstFlip = {a, b}; ++flipped; }
+      } else if (e.count == 3) {
+        if (firstNonMan.first < 0) firstNonMan = {a, b};
+        ++nonMan;
+      }
+    }
+  }
+  if (nonMan)
+    return std::to_string(nonMan) + " non-manifold edges (shared by more than two faces; first: vertices " +
+           std::to_string(firstNonMan.first) + "-" + std::to_string(firstNonMan.second) + ")";
+  if (flipped)
+    return std::to_string(flipped) + " edges join faces of inconsistent orientation (first: vertices " +
+           std::to_string(firstFlip.first) + "-" + std::to_string(firstFlip.second) + ")";
+  for (const auto& c : opt_.creaseEdges) {
+    if (c.first < 0 || c.first >= nV || c.second < 0 || c.second >= nV || !edges.count(EdgeKey(c.first, c.second)))
+      return "crease edge " + std::to_string(c.first) + "-" + std::to_string(c.second) + " is not an edge of the mesh";
+  }
+  for (int c : opt_.cornerVertices)
+    if (c < 0 || c >= nV) return "corner vertex " + std::to_string(c) + " is out of range";
+
+  // Non-manifold vertices (several fans of faces meeting at one vertex): union the corners of a
+  // vertex across its interior edges, then count fans per vertex.
+  std::vector<int> cornerOffs(sizes.size() + 1, 0);
+  for (size_t f = 0; f < sizes.size(); ++f) cornerOffs[f + 1] = cornerOffs[f] + sizes[f];
+  UnionFind uf(int(verts.size()));
+  for (const auto& kv : edges) {
+    const EdgeInfo& e = kv.second;
+    if (e.count != 2) continue;
+    int n0 = sizes[e.f0], n1 = sizes[e.f1];
+    // e goes a->b in f0 (corners k0, k0+1) and b->a in f1 (corners k1, k1+1).
+    uf.Join(cornerOffs[e.f0] + e.k0, cornerOffs[e.f1] + (e.k1 + 1) % n1);
+    uf.Join(cornerOffs[e.f0] + (e.k0 + 1) % n0, cornerOffs[e.f1] + e.k1);
+  }
+  std::vector<int> root(nV, -1);
+  int bowtie = 0, firstBowtie = -1;
+  std::vector<char> counted(nV, 0);
+  for (size_t c = 0; c < verts.size(); ++c) {
+    int v = verts[c], r = uf.Find(int(c));
+    if (root[v] < 0) root[v] = r;
+    else if (root[v] != r && !counted[v]) {
+      counted[v] = 1;
+      ++bowtie;
+      if (firstBowtie < 0) firstBowtie = v;
+    }
+  }
+  if (bowtie)
+    return std::to_string(bowtie) + " non-manifold vertices (several separate fans of faces; first: vertex " +
+           std::to_string(firstBowtie) + ")";
+
+  // Valences, boundary flags, irregular vertices.
+  std::vector<char> boundary(nV, 0);
+  valence_.assign(nV, 0);
+  for (const auto& kv : edges) {
+    int a = int(kv.first >> 32), b = int(kv.first & 0xffffffffu);
+    ++valence_[a];
+    ++valence_[b];
+    if (kv.second.count == 1) boundary[a] = boundary[b] = 1;
+  }
+  numIrregular_ = 0;
+  const int regInterior = loop ? 6 : 4, regBoundary = loop ? 4 : 3;
+  for (int v = 0; v < nV; ++v) {
+    if (valence_[v] == 0) continue;
+    if (valence_[v] != (boundary[v] ? regBoundary : regInterior)) ++numIrregular_;
+  }
+  return {};
+}
+
+void LimitSurface::Build(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
+  numVertices_ = std::max(nV, 0);
+  faceOffs_.assign(1, 0);
+  error_ = Validate(nV, sizes, verts);
+  if (!error_.empty()) return;
+  if (opt_.approxLevelSmooth < 1 || opt_.approxLevelSmooth > 10 || opt_.approxLevelSharp < 1 ||
+      opt_.approxLevelSharp > 10) {
+    error_ = "approxLevelSmooth / approxLevelSharp must be in 1..10";
+    return;
+  }
+  faceVerts_ = verts;
+  faceOffs_.resize(sizes.size() + 1);
+  for (size_t f = 0; f < sizes.size(); ++f) faceOffs_[f + 1] = faceOffs_[f] + sizes[f];
+  vertexCorner_.assign(nV, {-1, -1});
+  for (size_t f = 0; f < sizes.size(); ++f)
+    for (int k = 0; k < sizes[f]; ++k) {
+      int v = verts[faceOffs_[f] + k];
+      if (vertexCorner_[v].first < 0) vertexCorner_[v] = {int(f), k};
+    }
+
+  using Descriptor = osd::Far::TopologyDescriptor;
+  Descriptor desc;
+  desc.numVertices = nV;
+  desc.numFaces = int(sizes.size());
+  desc.numVertsPerFace = sizes.data();
+  desc.vertIndicesPerFace = verts.data();
+  std::vector<int> creasePairs;
+  std::vector<float> creaseW, cornerW;
+  for (const auto& c : opt_.creaseEdges) { creasePairs.push_back(c.first); creasePairs.push_back(c.second); }
+  creaseW.assign(opt_.creaseEdges.size(), osd::Sdc::Crease::SHARPNESS_INFINITE);
+  cornerW.assign(opt_.cornerVertices.size(), osd::Sdc::Crease::SHARPNESS_INFINITE);
+  desc.numCreases = int(opt_.creaseEdges.size());
+  desc.creaseVertexIndexPairs = creasePairs.data();
+  desc.creaseWeights = creaseW.data();
+  desc.numCorners = int(opt_.cornerVertices.size());
+  desc.cornerVertexIndices = opt_.cornerVertices.data();
+  desc.cornerWeights = cornerW.data();
+
+  osd::Sdc::Options sdc;
+  sdc.SetVtxBoundaryInterpolation(opt_.sharpBoundaryCorners ? osd::Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                                            : osd::Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  sdc.SetFVarLinearInterpolation(osd::Sdc::Options::FVAR_LINEAR_ALL);
+  const osd::Sdc::SchemeType type =
+      opt_.scheme == SubdivScheme::Loop ? osd::Sdc::SCHEME_LOOP : osd::Sdc::SCHEME_CATMARK;
+  using Factory = osd::Far::TopologyRefinerFactory<Descriptor>;
+  std::unique_ptr<osd::Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(type, sdc)));
+  if (!refiner) {
+    error_ = "OpenSubdiv rejected the control mesh topology";
+    return;
+  }
+
+  osd::Bfr::SurfaceFactory::Options fopt;
+  fopt.SetApproxLevelSmooth(opt_.approxLevelSmooth).SetApproxLevelSharp(opt_.approxLevelSharp);
+  osd::Bfr::RefinerSurfaceFactory<> factory(*refiner, fopt);
+
+  auto impl = std::make_unique<Impl>();
+  const int nF = int(sizes.size());
+  impl->surfaces.resize(nF);
+  impl->cvOffs.assign(nF + 1, 0);
+  int noLimit = 0, firstNoLimit = -1;
+  for (int f = 0; f < nF; ++f) {
+    auto& s = impl->surfaces[f];
+    if (!factory.InitVertexSurface<double>(f, &s) || !s.IsValid()) {
+      if (firstNoLimit < 0) firstNoLimit = f;
+      ++noLimit;
+      impl->cvOffs[f + 1] = impl->cvOffs[f];
+      continue;
+    }
+    int n = s.GetNumControlPoints();
+    impl->maxCV = std::max(impl->maxCV, n);
+    impl->cvIdx.resize(impl->cvOffs[f] + n);
+    s.GetControlPointIndices(impl->cvIdx.data() + impl->cvOffs[f]);
+    impl->cvOffs[f + 1] = impl->cvOffs[f] + n;
+  }
+  if (noLimit) {
+    error_ = std::to_string(noLimit) + " faces have no limit surface (first: face " + std::to_string(firstNoLimit) + ")";
+    return;
+  }
+  impl_ = std::move(impl);
+}
+
+bool LimitSurface::FaceIsRegular(int face) const {
+  if (!impl_ || face < 0 || face >= NumFaces()) return false;
+  return impl_->surfaces[face].IsRegular();
+}
+
+void LimitSurface::CornerUV(int face, int k, double& u, double& v) const {
+  u = v = 0;
+  if (!impl_ || face < 0 || face >= NumFaces()) return;
+  double uv[2];
+  impl_->surfaces[face].GetParameterization().GetVertexCoord(k, uv);
+  u = uv[0];
+  v = uv[1];
+}
+
+bool LimitSurface::Stencil(int face, double u, double v, LimitStencil& out, int order) const {
+  out.index.clear();
+  out.P.clear(); out.Du.clear(); out.Dv.clear(); out.Duu.clear(); out.Duv.clear(); out.Dvv.clear();
+  if (!impl_ || face < 0 || face >= NumFaces() || order < 0 || order > 2) return false;
+  const auto& s = impl_->surfaces[face];
+  const int n = s.GetNumControlPoints();
+  const int nd = order == 0 ? 1 : order == 1 ? 3 : 6;
+  // Scratch on the stack for typical sizes; heap otherwise.
+  double local[6 * 64];
+  std::vector<double> heap;
+  double* w = local;
+  if (n * nd > int(sizeof(local) / sizeof(double))) { heap.resize(size_t(n) * nd); w = heap.data(); }
+  const double uv[2] = {u, v};
+  if (order == 0) s.EvaluateStencil(uv, w);
+  else if (order == 1) s.EvaluateStencil(uv, w, w + n, w + 2 * n);
+  else s.EvaluateStencil(uv, w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n);
+
+  const int* idx = impl_->cvIdx.data() + impl_->cvOffs[face];
+  // Merge duplicate control points (a small closed mesh can wrap a neighbourhood onto itself).
+  std::vector<int> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  std::sort(perm.begin(), perm.end(), [&](int a, int b) { return idx[a] < idx[b]; });
+  std::vector<double>* arr[6] = {&out.P, &out.Du, &out.Dv, &out.Duu, &out.Duv, &out.Dvv};
+  out.index.reserve(n);
+  for (int d = 0; d < nd; ++d) arr[d]->reserve(n);
+  for (int j = 0; j < n; ++j) {
+    int p = perm[j];
+    if (!out.index.empty() && out.index.back() == idx[p]) {
+      for (int d = 0; d < nd; ++d) arr[d]->back() += w[d * n + p];
+    } else {
+      out.index.push_back(idx[p]);
+      for (int d = 0; d < nd; ++d) arr[d]->push_back(w[d * n + p]);
+    }
+  }
+  return true;
+}
+
+bool LimitSurface::Evaluate(int face, double u, double v, const std::vector<Vec3>& ctrl, Vec3* P, Vec3* Du,
+                            Vec3* Dv, Vec3* Duu, Vec3* Duv, Vec3* Dvv) const {
+  if (int(ctrl.size()) != numVertices_) return false;
+  int order = (Duu || Duv || Dvv) ? 2 : (Du || Dv) ? 1 : 0;
+  LimitStencil st;
+  if (!Stencil(face, u, v, st, order)) return false;
+  auto apply = [&](const std::vector<double>& w, Vec3* r) {
+    if (!r) return;
+    r->setZero();
+    for (int i = 0; i < st.Size(); ++i) *r += w[i] * ctrl[st.index[i]];
+  };
+  apply(st.P, P);
+  if (order >= 1) { apply(st.Du, Du); apply(st.Dv, Dv); }
+  if (order >= 2) { apply(st.Duu, Duu); apply(st.Duv, Duv); apply(st.Dvv, Dvv); }
+  return true;
+}
+
+Eigen::SparseMatrix<double> LimitSurface::VertexLimitMatrix() const {
+  Eigen::SparseMatrix<double> L;
+  if (!Ok() || !impl_) return L;
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(size_t(numVertices_) * 16);
+  LimitStencil st;
+  for (int v = 0; v < numVertices_; ++v) {
+    auto fc = vertexCorner_[v];
+    if (fc.first < 0) { trip.emplace_back(v, v, 1.0); continue; }
+    double u, w;
+    CornerUV(fc.first, fc.second, u, w);
+    Stencil(fc.first, u, w, st, 0);
+    for (int i = 0; i < st.Size(); ++i)
+      if (st.P[i] != 0.0) trip.emplace_back(v, st.index[i], st.P[i]);
+  }
+  L.resize(numVertices_, numVertices_);
+  L.setFromTriplets(trip.begin(), trip.end());
+  return L;
+}
+
+}  // namespace vcgext
