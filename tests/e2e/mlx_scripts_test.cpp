@@ -53,7 +53,7 @@ TEST(MlxScripts, FitmapsOnBunnyMatchesLibrary) {
   EXPECT_GT(distinct.size(), 20u) << "the colour map should show a range of colours";
 }
 
-TEST(MlxScripts, FitmapsRejectsPointCloudAndKeepsLayer) {
+TEST(MlxScripts, FitmapsRejectsPointCloudWithClearError) {
   // A point cloud: the filter must fail with a clear message, and meshlabserver must not crash.
   const std::string in = e2e::OutPath("cloud.off");
   {
