@@ -86,6 +86,8 @@ class LimitSurface {
   int NumVertices() const { return numVertices_; }
   int NumFaces() const { return int(faceOffs_.size()) - 1; }
   int FaceSize(int face) const { return faceOffs_[face + 1] - faceOffs_[face]; }
+  /// Control vertex of the face's k-th corner.
+  int FaceVertex(int face, int k) const { return faceVerts_[faceOffs_[face] + k]; }
   /// Whether the face's limit patch is a single regular B-spline / box-spline patch.
   bool FaceIsRegular(int face) const;
   /// Number of irregular (extraordinary) vertices: interior valence != 4 (CC) / 6 (Loop),

@@ -1,0 +1,352 @@
+#include "vcg_ext/fit/bake.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <unordered_map>
+
+#include "vcg_ext/core/progress.h"
+#include "vcg_ext/fit/fit_internal.h"
+
+namespace vcgext {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+inline std::uint64_t EdgeKey(int a, int b) {
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+}  // namespace
+
+LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int N) {
+  LimitTessellation t;
+  const int nF = ls.NumFaces();
+  if (!ls.Ok() || N < 1 || nF == 0) return t;
+  // Vertex ids: control corners shared, edge points shared per undirected edge, interiors own.
+  std::vector<int> cornerId(ls.NumVertices(), -1);
+  std::unordered_map<std::uint64_t, int> edgeBase;  // first id of the N-1 interior points of edge (a<b)
+  std::vector<int> gridId(size_t(nF) * (N + 1) * (N + 1));
+  auto addVertex = [&](int f, double u, double v) {
+    t.face.push_back(f);
+    t.uv.emplace_back(u, v);
+    return int(t.face.size()) - 1;
+  };
+  int cv[4];
+  for (int f = 0; f < nF; ++f) {
+    int* g = gridId.data() + size_t(f) * (N + 1) * (N + 1);
+    // Corner control vertices: the corner (u,v) convention (0,0),(1,0),(1,1),(0,1).
+    const int cu[4] = {0, N, N, 0}, cvv[4] = {0, 0, N, N};
+    for (int c = 0; c < 4; ++c) cv[c] = ls.FaceVertex(f, c);
+    for (int c = 0; c < 4; ++c) {
+      int& id = cornerId[cv[c]];
+      if (id < 0) id = addVertex(f, double(cu[c]) / N, double(cvv[c]) / N);
+      g[cvv[c] * (N + 1) + cu[c]] = id;
+    }
+    // Edges: e0 c0->c1 (j=0, i=m), e1 c1->c2 (i=N, j=m), e2 c2->c3 (j=N, i=N-m), e3 c3->c0 (i=0, j=N-m).
+    for (int e = 0; e < 4; ++e) {
+      int a = cv[e], b = cv[(e + 1) % 4];
+      bool fwd = a < b;
+      auto key = fwd ? EdgeKey(a, b) : EdgeKey(b, a);
+      auto it = edgeBase.find(key);
+      int base;
+      bool created = false;
+      if (it == edgeBase.end()) { base = int(t.face.size()); edgeBase.emplace(key, base); created = true; }
+      else base = it->second;
+      for (int m = 1; m < N; ++m) {
+        int i, j;
+        switch (e) {
+          case 0: i = m; j = 0; break;
+          case 1: i = N; j = m; break;
+          case 2: i = N - m; j = N; break;
+          default: i = 0; j = N - m; break;
+        }
+        int cm = fwd ? m : N - m;  // canonical position along a<b
+        g[j * (N + 1) + i] = base + cm - 1;
+      }
+      if (created) {
+        for (int cm = 1; cm < N; ++cm) {
+          int m = fwd ? cm : N - cm;
+          int i, j;
+          switch (e) {
+            case 0: i = m; j = 0; break;
+            case 1: i = N; j = m; break;
+            case 2: i = N - m; j = N; break;
+            default: i = 0; j = N - m; break;
+          }
+          addVertex(f, double(i) / N, double(j) / N);
+        }
+      }
+    }
+    for (int j = 1; j < N; ++j)
+      for (int i = 1; i < N; ++i) g[j * (N + 1) + i] = addVertex(f, double(i) / N, double(j) / N);
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i < N; ++i) {
+        int v00 = g[j * (N + 1) + i], v10 = g[j * (N + 1) + i + 1];
+        int v11 = g[(j + 1) * (N + 1) + i + 1], v01 = g[(j + 1) * (N + 1) + i];
+        t.mesh.F.push_back({v00, v10, v11});
+        t.mesh.F.push_back({v00, v11, v01});
+      }
+  }
+  const int nV = int(t.face.size());
+  t.mesh.V.resize(nV);
+  t.normal.resize(nV);
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < nV; ++v) {
+    Vec3 P, Du, Dv;
+    ls.Evaluate(t.face[v], t.uv[v][0], t.uv[v][1], ctrl, &P, &Du, &Dv);
+    Vec3 n = Du.cross(Dv);
+    double l = n.norm();
+    t.mesh.V[v] = P;
+    t.normal[v] = l > 0 ? Vec3(n / l) : Vec3::Zero();
+  }
+  return t;
+}
+
+std::vector<double> SignedDistanceToReference(const std::vector<Vec3>& pts, const EmbreeScene& ref, double maxDist) {
+  std::vector<double> d(pts.size(), maxDist);
+  const auto fn = FaceNormals(ref.Mesh());
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < long(pts.size()); ++i) {
+    EmbreeScene::Hit h = ref.ClosestPoint(pts[i], maxDist);
+    if (!h.valid) continue;
+    Vec3 dv = pts[i] - h.point;
+    double s = dv.dot(fn[h.face]) < 0 ? -1.0 : 1.0;
+    d[i] = s * dv.norm();
+  }
+  return d;
+}
+
+int AutoTextureResolution(int referenceVertices, int patches) {
+  if (patches <= 0) return 2;
+  return std::max(2, int(std::lround(std::sqrt(double(referenceVertices) / patches))));
+}
+
+DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
+                                   const EmbreeScene& scene, int R, double maxDist, bool normalMap) {
+  DisplacementAtlas a;
+  const int nF = ls.NumFaces();
+  if (!ls.Ok() || nF == 0 || R < 2) return a;
+  a.R = R;
+  a.cols = int(std::ceil(std::sqrt(double(nF))));
+  a.rows = (nF + a.cols - 1) / a.cols;
+  a.width = a.cols * R;
+  a.height = a.rows * R;
+  a.disp.assign(size_t(a.width) * a.height, 0.f);
+  if (normalMap) a.normalRGB.assign(size_t(a.width) * a.height * 3, 128);
+  std::vector<Vec3> vn;
+  if (normalMap) vn = VertexNormals(ref);
+  int misses = 0;
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : misses)
+  for (int f = 0; f < nF; ++f) {
+    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i) {
+        Vec3 P, Du, Dv;
+        ls.Evaluate(f, double(i) / (R - 1), double(j) / (R - 1), ctrl, &P, &Du, &Dv);
+        Vec3 n = Du.cross(Dv);
+        double l = n.norm();
+        n = l > 0 ? Vec3(n / l) : Vec3::Zero();
+        double d = 0;
+        EmbreeScene::Hit h;
+        if (l > 0) h = scene.IntersectLine(P, n, maxDist);
+        if (h.valid) {
+          d = h.t;
+        } else {
+          ++misses;
+          h = scene.ClosestPoint(P, maxDist);
+          if (h.valid) d = (h.point - P).dot(n);
+        }
+        const size_t px = size_t(y0 + j) * a.width + x0 + i;
+        a.disp[px] = float(d);
+        if (normalMap) {
+          Vec3 nn = n;
+          if (h.valid) {
+            const auto& t = ref.F[h.face];
+            nn = (1 - h.u - h.v) * vn[t[0]] + h.u * vn[t[1]] + h.v * vn[t[2]];
+            if (nn.norm() > 0) nn.normalize();
+          }
+          for (int c = 0; c < 3; ++c)
+            a.normalRGB[px * 3 + c] = std::uint8_t(std::clamp(std::lround((nn[c] + 1) * 0.5 * 255), 0L, 255L));
+        }
+      }
+  }
+  a.misses = misses;
+  // Quantization range over the tiles actually used.
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int f = 0; f < nF; ++f) {
+    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i) {
+        double d = a.disp[size_t(y0 + j) * a.width + x0 + i];
+        lo = std::min(lo, d);
+        hi = std::max(hi, d);
+      }
+  }
+  a.offset = lo;
+  a.scale = hi > lo ? (hi - lo) / 65535.0 : 0.0;
+  a.q16.assign(a.disp.size(), 0);
+  for (size_t k = 0; k < a.disp.size(); ++k)
+    if (a.scale > 0)
+      a.q16[k] = std::uint16_t(std::clamp(std::lround((a.disp[k] - lo) / a.scale), 0L, 65535L));
+  // Wedge UVs at the corner texels' centres; v up (OpenGL / OBJ / MeshLab), image row 0 on top.
+  a.wedgeUV.resize(nF);
+  const int cu[4] = {0, 1, 1, 0}, cvv[4] = {0, 0, 1, 1};
+  for (int f = 0; f < nF; ++f) {
+    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
+    for (int c = 0; c < 4; ++c) {
+      double x = x0 + 0.5 + cu[c] * (R - 1), y = y0 + 0.5 + cvv[c] * (R - 1);
+      a.wedgeUV[f][c] = Eigen::Vector2d(x / a.width, 1.0 - y / a.height);
+    }
+  }
+  return a;
+}
+
+LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a) {
+  LimitTessellation t = TessellateLimit(ls, ctrl, a.R - 1);
+  const int N = a.R - 1;
+  for (size_t v = 0; v < t.mesh.V.size(); ++v) {
+    int i = int(std::lround(t.uv[v][0] * N)), j = int(std::lround(t.uv[v][1] * N));
+    t.mesh.V[v] += a.Decoded(t.face[v], i, j) * t.normal[v];
+  }
+  return t;
+}
+
+std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriData& surf) {
+  EmbreeScene s(surf);
+  if (!s.Ok() || ref.V.empty()) return {0.0, 0.0};
+  double sum = 0, mx = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum) reduction(max : mx)
+  for (long i = 0; i < long(ref.V.size()); ++i) {
+    EmbreeScene::Hit h = s.ClosestPoint(ref.V[i]);
+    double d = h.valid ? (h.point - ref.V[i]).norm() : 0.0;
+    sum += d * d;
+    mx = std::max(mx, d);
+  }
+  return {std::sqrt(sum / ref.V.size()), mx};
+}
+
+double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, const EmbreeScene& scene, double maxDist) {
+  const int nT = int(ref.F.size());
+  if (nT == 0) return 0.0;
+  std::vector<unsigned char> reached(nT, 0);
+#pragma omp parallel for schedule(static)
+  for (long v = 0; v < long(lim.mesh.V.size()); ++v) {
+    if (lim.normal[v].squaredNorm() == 0) continue;
+    EmbreeScene::Hit h = scene.IntersectLine(lim.mesh.V[v], lim.normal[v], maxDist);
+    if (h.valid) {
+#pragma omp atomic write
+      reached[h.face] = 1;
+    }
+  }
+  EmbreeScene ls(lim.mesh);
+  double total = 0, missed = 0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(+ : total, missed)
+  for (int t = 0; t < nT; ++t) {
+    const auto& f = ref.F[t];
+    const Vec3 &a = ref.V[f[0]], &b = ref.V[f[1]], &c = ref.V[f[2]];
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    total += area;
+    unsigned char r;
+#pragma omp atomic read
+    r = reached[t];
+    if (r) continue;
+    bool ok = false;
+    EmbreeScene::Hit q = ls.ClosestPoint((a + b + c) / 3.0, maxDist);
+    if (q.valid) {
+      const auto& g = lim.mesh.F[q.face];
+      Vec3 n = (1 - q.u - q.v) * lim.normal[g[0]] + q.u * lim.normal[g[1]] + q.v * lim.normal[g[2]];
+      if (n.norm() > 0) {
+        EmbreeScene::Hit h = scene.IntersectLine(q.point, n.normalized(), maxDist);
+        ok = h.valid && h.face == t;
+      }
+    }
+    if (!ok) missed += area;
+  }
+  return total > 0 ? 100.0 * missed / total : 0.0;
+}
+
+FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitBakeParams& p,
+                         vcg::CallBackPos* cb) {
+  FitBakeResult r;
+  const auto t0 = Clock::now();
+  Progress prog(cb);
+  r.referenceVertices = int(ref.V.size());
+  r.referenceFaces = int(ref.F.size());
+  if (p.limitSegments < 1 || p.textureResolution < 0 || p.textureResolution == 1 || p.maxDistPercent <= 0 ||
+      p.metricSegments < 0) {
+    r.error = "invalid parameters (limit segments >= 1, texture resolution 0 (auto) or >= 2, positive distance)";
+    return r;
+  }
+  r.fit = FitCatmullClark(control, ref, scene, p.fit, nullptr);
+  if (!r.fit.error.empty()) { r.error = r.fit.error; return r; }
+  r.times.emplace_back("fit", r.fit.seconds);
+  prog(50, "Fit and bake: tessellating", true);
+  const double diag = BBoxDiagonal(ref.V);
+  const double maxDist = p.maxDistPercent / 100.0 * diag;
+  auto t = Clock::now();
+  LimitSurface ls = LimitSurface::FromQuads(r.fit.control);
+  if (!ls.Ok()) { r.error = ls.Error(); return r; }
+  const auto& ctrl = r.fit.control.V;
+  r.limit = TessellateLimit(ls, ctrl, p.limitSegments);
+  r.limit.quality = SignedDistanceToReference(r.limit.mesh.V, scene, std::numeric_limits<double>::infinity());
+  r.times.emplace_back("tessellate", Since(t));
+  prog(60, "Fit and bake: baking displacement", true);
+  t = Clock::now();
+  const int R = p.textureResolution > 0 ? p.textureResolution : AutoTextureResolution(r.referenceVertices, ls.NumFaces());
+  r.atlas = BakeDisplacement(ls, ctrl, ref, scene, R, maxDist, p.normalMap);
+  r.displaced = DisplacedSurface(ls, ctrl, r.atlas);
+  r.displaced.quality = SignedDistanceToReference(r.displaced.mesh.V, scene, std::numeric_limits<double>::infinity());
+  r.times.emplace_back("bake", Since(t));
+  if (p.computeMetrics) {
+    prog(75, "Fit and bake: measuring", true);
+    t = Clock::now();
+    int Nm = p.metricSegments;
+    if (Nm == 0)
+      Nm = std::max(p.limitSegments,
+                    int(std::ceil(std::sqrt(2.0 * double(ref.F.size()) / std::max(ls.NumFaces(), 1)))));
+    LimitTessellation dense = Nm == p.limitSegments ? r.limit : TessellateLimit(ls, ctrl, Nm);
+    auto el = ReferenceToSurfaceError(ref, dense.mesh);
+    auto ed = ReferenceToSurfaceError(ref, r.displaced.mesh);
+    const double pm = diag > 0 ? 1000.0 / diag : 0.0;
+    r.metrics.rmsLimitPermille = el.first * pm;
+    r.metrics.maxLimitPermille = el.second * pm;
+    r.metrics.rmsDisplacedPermille = ed.first * pm;
+    r.metrics.maxDisplacedPermille = ed.second * pm;
+    double mx = 0;
+    for (double q : r.limit.quality) mx = std::max(mx, std::abs(q));
+    r.metrics.maxLimitToRefPermille = mx * pm;
+    r.metrics.unprojectablePct = UnprojectablePercent(dense, ref, scene, maxDist);
+    r.times.emplace_back("metrics", Since(t));
+  }
+  r.totalSeconds = Since(t0);
+  struct rusage ru;
+  if (getrusage(RUSAGE_SELF, &ru) == 0) r.peakMemoryMb = ru.ru_maxrss / 1024.0;
+  prog(100, "Fit and bake: done", true);
+  return r;
+}
+
+std::string FormatReport(const FitBakeResult& r) {
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(3);
+  if (!r.error.empty()) { o << "error: " << r.error << "\n"; return o.str(); }
+  o << "patches " << r.fit.patches << ", irregular vertices " << r.fit.irregularVertices << ", degenerate patches "
+    << r.fit.degeneratePatches << "\n";
+  o << "samples " << r.fit.samples << " (k " << r.fit.minKUsed << ".." << r.fit.maxKUsed << "), iterations "
+    << r.fit.iterations << ", ray misses " << 100 * r.fit.rayMissFraction << "%\n";
+  o << "unprojectable " << r.metrics.unprojectablePct << "% of the reference area\n";
+  o << "limit error RMS " << r.metrics.rmsLimitPermille << " max " << r.metrics.maxLimitPermille
+    << " (permille of bbox diagonal, per reference vertex)\n";
+  o << "displaced error RMS " << r.metrics.rmsDisplacedPermille << " max " << r.metrics.maxDisplacedPermille
+    << " (texture " << r.atlas.width << "x" << r.atlas.height << ", tile " << r.atlas.R << ")\n";
+  o << "time:";
+  for (const auto& t : r.times) o << " " << t.first << " " << t.second << " s,";
+  o << " total " << r.totalSeconds << " s; peak memory " << r.peakMemoryMb << " MB\n";
+  return o.str();
+}
+
+}  // namespace vcgext

@@ -1,0 +1,131 @@
+#pragma once
+/// \file bake.h
+/// Outputs of the final fit (Fitmaps §3.5 / §4): the limit surface tessellated per patch, the
+/// scalar displacement atlas (one R×R tile per patch) and the displaced surface, an optional
+/// normal map, per-wedge UVs of the control quads, the quality metrics of Table 1, and the
+/// one-call pipeline FitAndBake (fit + bake + metrics + timings).
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <cstring>  // vcglib's callback.h uses strcpy without including it
+#include <wrap/callback.h>
+
+#include "vcg_ext/core/embree_scene.h"
+#include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/fit/cc_fit.h"
+#include "vcg_ext/subdiv/limit_surface.h"
+
+namespace vcgext {
+
+/// A welded tessellation of the limit surface: each patch is an N×N grid of quads split into
+/// 2N² triangles; vertices on shared patch edges/corners are shared. Per vertex: the patch and
+/// (u,v) it was evaluated at, the unit limit normal, and (when computed) `quality`.
+struct LimitTessellation {
+  TriData mesh;
+  std::vector<Vec3> normal;
+  std::vector<int> face;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> quality;  ///< e.g. signed distance to the reference (absolute units)
+};
+
+/// Tessellates the limit of control points `ctrl` over `ls` with N segments per patch side.
+/// Cost: O(F·N²) stencil evaluations (parallel). Preconditions: ls.Ok(), N >= 1, quads.
+LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int N);
+
+/// Signed distance from each point to the reference surface (closest point; sign > 0 on the
+/// side the reference face normal points to). Points farther than maxDist get ±maxDist (+).
+std::vector<double> SignedDistanceToReference(const std::vector<Vec3>& pts, const EmbreeScene& ref, double maxDist);
+
+/// The displacement atlas. Tile of patch f: column f % cols, row f / cols; its texel (i,j)
+/// (pixel x = col·R + i, y = row·R + j, y downwards, row 0 on top of the PNG) holds the signed
+/// displacement along the limit normal at (u,v) = (i/(R−1), j/(R−1)). Texel centres of a tile's
+/// corner texels are the patch corners, so wedge UVs at those centres map a tile exactly onto
+/// its patch and bilinear texture filtering reproduces the baked grid.
+struct DisplacementAtlas {
+  int R = 0, cols = 0, rows = 0, width = 0, height = 0;
+  std::vector<float> disp;          ///< width·height signed displacements (absolute units); 0 outside tiles
+  std::vector<std::uint16_t> q16;   ///< quantized: disp ≈ offset + scale · q16
+  double scale = 0, offset = 0;
+  std::vector<std::uint8_t> normalRGB;  ///< optional 3·width·height object-space normal map ((n+1)/2·255)
+  std::vector<std::array<Eigen::Vector2d, 4>> wedgeUV;  ///< per control quad corner, OpenGL convention (v up)
+  int misses = 0;                   ///< texels whose normal ray missed (closest-point fallback used)
+  /// Decoded (quantized) displacement of patch f at texel (i,j).
+  double Decoded(int f, int i, int j) const {
+    const int x = (f % cols) * R + i, y = (f / cols) * R + j;
+    return offset + scale * q16[size_t(y) * width + x];
+  }
+};
+
+/// Resolution of the paper (§4): total samples ≈ reference vertices, R = round(√(nRef/F)), ≥ 2.
+int AutoTextureResolution(int referenceVertices, int patches);
+
+/// Bakes the displacement atlas: for each texel, the signed distance along the limit normal to
+/// the reference (nearest ray hit on either side within maxDist; miss → the closest reference
+/// point's offset along the normal). `normalMap`: also bake the reference's interpolated vertex
+/// normal at the hit (object space). Cost: F·R² ray casts (parallel).
+DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
+                                   const EmbreeScene& scene, int R, double maxDist, bool normalMap);
+
+/// The displaced surface: the tessellation at the atlas grid (N = R−1), each vertex moved by the
+/// decoded (16-bit) displacement along the limit normal — what a renderer reconstructs.
+LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a);
+
+/// Table-1 metrics. Errors are one-sided, per reference vertex (unweighted; scans are roughly
+/// uniformly sampled): the distance from every reference vertex to its closest point on the
+/// surface, RMS and max, in ‰ of the reference bbox diagonal.
+struct FitMetrics {
+  double rmsLimitPermille = 0, maxLimitPermille = 0;
+  double rmsDisplacedPermille = 0, maxDisplacedPermille = 0;
+  double maxLimitToRefPermille = 0;  ///< the other direction: tessellation vertices → reference
+  double unprojectablePct = 0;       ///< % of the reference area not reached by normal projection
+};
+
+/// RMS / max distance (absolute) of the reference vertices to `surf`.
+std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriData& surf);
+
+/// Share (percent) of the reference area that no normal line from the limit surface reaches
+/// first (paper §4 "projectability"): lines along ±normal from the vertices of the dense
+/// tessellation `lim` mark the nearest reference triangle they hit (within maxDist); each
+/// unmarked triangle gets a second chance from the closest point of its centroid on `lim`
+/// (interpolated normal). Cost: |lim| + unmarked ray casts.
+double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, const EmbreeScene& scene, double maxDist);
+
+/// Parameters of FitAndBake.
+struct FitBakeParams {
+  FitParams fit;
+  int limitSegments = 8;          ///< N: output limit layer tessellation per patch side
+  int textureResolution = 0;      ///< R per tile side; 0 = automatic (AutoTextureResolution)
+  bool normalMap = false;         ///< also bake the normal map
+  double maxDistPercent = 10.0;   ///< max displacement / projection distance, % bbox diagonal
+  int metricSegments = 0;         ///< tessellation used for the limit error / projectability; 0 = auto
+  bool computeMetrics = true;
+};
+
+/// Everything the plugin / tools write out, plus the report.
+struct FitBakeResult {
+  std::string error;
+  FitResult fit;
+  LimitTessellation limit;        ///< N×N per patch, quality = signed distance to the reference
+  LimitTessellation displaced;    ///< quality = signed distance to the reference
+  DisplacementAtlas atlas;
+  FitMetrics metrics;
+  std::vector<std::pair<std::string, double>> times;  ///< seconds per stage, in order
+  double totalSeconds = 0;
+  double peakMemoryMb = 0;        ///< process peak RSS (getrusage) at the end
+  int referenceVertices = 0, referenceFaces = 0;
+};
+
+/// Fits `control` to `ref` (FitCatmullClark), tessellates the limit, bakes the atlas, builds the
+/// displaced surface and measures Table-1 metrics. `scene` must be built on `ref`. On error only
+/// `error` is meaningful. Cost: dominated by ray casts (≈ (iterations+3)·|ref| rays).
+FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const EmbreeScene& scene,
+                         const FitBakeParams& p = {}, vcg::CallBackPos* cb = nullptr);
+
+/// Human-readable multi-line summary of a result (for the MeshLab log and tools).
+std::string FormatReport(const FitBakeResult& r);
+
+}  // namespace vcgext

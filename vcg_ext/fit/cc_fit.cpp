@@ -1,0 +1,268 @@
+#include "vcg_ext/fit/cc_fit.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "vcg_ext/core/progress.h"
+#include "vcg_ext/fit/fit_internal.h"
+#include "vcg_ext/subdiv/limit_surface.h"
+
+namespace vcgext {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using SpMat = Eigen::SparseMatrix<double>;
+using SpMatR = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+}  // namespace
+
+namespace fitdetail {
+
+double PatchArea(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, int n) {
+  std::vector<Vec3> P((n + 1) * (n + 1));
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) ls.Evaluate(f, double(i) / n, double(j) / n, ctrl, &P[j * (n + 1) + i]);
+  double a = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const Vec3& p00 = P[j * (n + 1) + i];
+      const Vec3& p10 = P[j * (n + 1) + i + 1];
+      const Vec3& p11 = P[(j + 1) * (n + 1) + i + 1];
+      const Vec3& p01 = P[(j + 1) * (n + 1) + i];
+      a += 0.5 * ((p10 - p00).cross(p11 - p00).norm() + (p11 - p00).cross(p01 - p00).norm());
+    }
+  return a;
+}
+
+bool Project(const EmbreeScene& scene, const Vec3& p, const Vec3& n, double maxDist, Vec3& target, bool* rayHit) {
+  *rayHit = false;
+  if (n.squaredNorm() > 0) {
+    EmbreeScene::Hit h = scene.IntersectLine(p, n, maxDist);
+    if (h.valid) { target = h.point; *rayHit = true; return true; }
+  }
+  EmbreeScene::Hit c = scene.ClosestPoint(p, maxDist);
+  if (c.valid) { target = c.point; return true; }
+  target = p;
+  return false;
+}
+
+}  // namespace fitdetail
+
+FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitParams& p,
+                          vcg::CallBackPos* cb) {
+  FitResult res;
+  const auto t0 = Clock::now();
+  Progress prog(cb);
+  if (ref.V.empty() || ref.F.empty()) { res.error = "the reference mesh is empty"; return res; }
+  if (!scene.Ok()) { res.error = "the reference ray-casting scene is not valid: " + scene.Error(); return res; }
+  if (control.F.empty()) { res.error = "the control mesh has no faces"; return res; }
+  for (size_t i = 0; i < control.V.size(); ++i)
+    if (!control.V[i].allFinite()) {
+      res.error = "control vertex " + std::to_string(i) + " has NaN or infinite coordinates";
+      return res;
+    }
+  if (p.maxIterations < 1 || p.minK < 1 || p.maxK < p.minK || p.samplesPerVertex <= 0 || p.vertexWeight < 0 ||
+      p.dampingWeight < 0 || p.smoothWeight < 0 || p.maxProjectionPercent <= 0) {
+    res.error = "invalid fit parameters (iterations >= 1, 1 <= minK <= maxK, positive sample density and distance)";
+    return res;
+  }
+  LimitSurface ls = LimitSurface::FromQuads(control);
+  if (!ls.Ok()) { res.error = "control mesh: " + ls.Error(); return res; }
+  const int nV = int(control.V.size()), nF = int(control.F.size());
+  res.patches = nF;
+  res.irregularVertices = ls.NumIrregularVertices();
+  const double diag = BBoxDiagonal(ref.V);
+  const double maxDist = p.maxProjectionPercent / 100.0 * diag;
+  const double refArea = TotalArea(ref);
+  if (!(refArea > 0)) { res.error = "the reference mesh has zero area"; return res; }
+  prog(0, "Fit: sampling patches", true);
+
+  // ---- samples: k×k cell centres per patch + one corner sample per control vertex.
+  std::vector<int> kOf(nF);
+  std::vector<double> area(nF);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int f = 0; f < nF; ++f) area[f] = fitdetail::PatchArea(ls, control.V, f, 4);
+  res.minKUsed = p.maxK;
+  res.maxKUsed = 0;
+  std::vector<int> sampleOffs(nF + 1, 0);
+  const double tiny = 1e-14 * diag * diag;
+  for (int f = 0; f < nF; ++f) {
+    const auto& q = control.F[f];
+    double qa = 0.5 * ((control.V[q[1]] - control.V[q[0]]).cross(control.V[q[2]] - control.V[q[0]]).norm() +
+                       (control.V[q[2]] - control.V[q[0]]).cross(control.V[q[3]] - control.V[q[0]]).norm());
+    Vec3 Pc, Du, Dv;
+    ls.Evaluate(f, 0.5, 0.5, control.V, &Pc, &Du, &Dv);
+    if (qa <= tiny || Du.cross(Dv).norm() <= tiny || area[f] <= tiny) {
+      if (res.firstDegeneratePatch < 0) res.firstDegeneratePatch = f;
+      ++res.degeneratePatches;
+    }
+    int k = int(std::floor(std::sqrt(p.samplesPerVertex * double(ref.V.size()) * area[f] / refArea)));
+    k = std::clamp(k, p.minK, p.maxK);
+    kOf[f] = k;
+    res.minKUsed = std::min(res.minKUsed, k);
+    res.maxKUsed = std::max(res.maxKUsed, k);
+    sampleOffs[f + 1] = sampleOffs[f] + k * k;
+  }
+  const int nS = sampleOffs[nF];
+  res.samples = nS;
+  const int nRows = nS + nV;
+
+  // Stencils (rows of A, ADu, ADv), computed in parallel per patch.
+  struct Row { std::vector<int> idx; std::vector<double> w, du, dv; };
+  std::vector<Row> rows(nRows);
+  std::vector<double> weight(nRows, 1.0);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int f = 0; f < nF; ++f) {
+    LimitStencil st;
+    const int k = kOf[f];
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) {
+        ls.Stencil(f, (i + 0.5) / k, (j + 0.5) / k, st, 1);
+        Row& r = rows[sampleOffs[f] + j * k + i];
+        r.idx = st.index; r.w = st.P; r.du = st.Du; r.dv = st.Dv;
+      }
+  }
+  {
+    std::vector<std::pair<int, int>> vc(nV, {-1, -1});
+    for (int f = 0; f < nF; ++f)
+      for (int c = 0; c < 4; ++c)
+        if (vc[control.F[f][c]].first < 0) vc[control.F[f][c]] = {f, c};
+    LimitStencil st;
+    for (int v = 0; v < nV; ++v) {
+      Row& r = rows[nS + v];
+      if (vc[v].first < 0) {  // isolated vertex: keep it where it is
+        r.idx = {v}; r.w = {1.0}; r.du = {0.0}; r.dv = {0.0};
+        weight[nS + v] = 0.0;
+        continue;
+      }
+      double u, w;
+      ls.CornerUV(vc[v].first, vc[v].second, u, w);
+      ls.Stencil(vc[v].first, u, w, st, 1);
+      r.idx = st.index; r.w = st.P; r.du = st.Du; r.dv = st.Dv;
+      weight[nS + v] = p.vertexWeight;
+    }
+  }
+  std::vector<Eigen::Triplet<double>> tA, tU, tV;
+  size_t nnz = 0;
+  for (const auto& r : rows) nnz += r.idx.size();
+  tA.reserve(nnz); tU.reserve(nnz); tV.reserve(nnz);
+  for (int i = 0; i < nRows; ++i)
+    for (size_t j = 0; j < rows[i].idx.size(); ++j) {
+      tA.emplace_back(i, rows[i].idx[j], rows[i].w[j]);
+      tU.emplace_back(i, rows[i].idx[j], rows[i].du[j]);
+      tV.emplace_back(i, rows[i].idx[j], rows[i].dv[j]);
+    }
+  rows.clear();
+  rows.shrink_to_fit();
+  SpMatR A(nRows, nV), ADu(nRows, nV), ADv(nRows, nV);
+  A.setFromTriplets(tA.begin(), tA.end());
+  ADu.setFromTriplets(tU.begin(), tU.end());
+  ADv.setFromTriplets(tV.begin(), tV.end());
+  tA.clear(); tU.clear(); tV.clear();
+  Eigen::VectorXd W = Eigen::Map<Eigen::VectorXd>(weight.data(), nRows);
+  SpMat AtW = SpMat(A.transpose()) * W.asDiagonal();
+  SpMat M = AtW * A;
+  const double meanDiag = M.diagonal().sum() / nV;
+  const double lambda = p.dampingWeight * meanDiag, mu = p.smoothWeight * meanDiag;
+  if (mu > 0) {
+    // Uniform Laplacian of the control net (edges of the quads).
+    std::vector<Eigen::Triplet<double>> tl;
+    std::vector<std::vector<int>> nb(nV);
+    for (const auto& q : control.F)
+      for (int c = 0; c < 4; ++c) { nb[q[c]].push_back(q[(c + 1) % 4]); nb[q[c]].push_back(q[(c + 3) % 4]); }
+    for (int v = 0; v < nV; ++v) {
+      std::sort(nb[v].begin(), nb[v].end());
+      nb[v].erase(std::unique(nb[v].begin(), nb[v].end()), nb[v].end());
+      if (nb[v].empty()) continue;
+      tl.emplace_back(v, v, 1.0);
+      for (int w : nb[v]) tl.emplace_back(v, w, -1.0 / nb[v].size());
+    }
+    SpMat Lap(nV, nV);
+    Lap.setFromTriplets(tl.begin(), tl.end());
+    M += mu * SpMat(Lap.transpose() * Lap);
+  }
+  if (lambda > 0) {
+    SpMat I(nV, nV);
+    I.setIdentity();
+    M += lambda * I;
+  }
+  res.secondsSetup = Since(t0);
+  prog(20, "Fit: factorizing", true);
+  auto tf = Clock::now();
+  Eigen::SimplicialLDLT<SpMat> ldlt;
+  ldlt.compute(M);
+  res.secondsFactor = Since(tf);
+  if (ldlt.info() != Eigen::Success) {
+    res.error = "the fitting system is singular (" + std::to_string(nV) + " control vertices, " +
+                std::to_string(nS) + " samples): increase samplesPerVertex or dampingWeight";
+    return res;
+  }
+
+  // ---- iterate project -> solve.
+  Eigen::MatrixXd X(nV, 3);
+  for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
+  Eigen::MatrixXd best = X;
+  double bestRms = std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd T(nRows, 3);
+  for (int it = 0; it <= p.maxIterations; ++it) {
+    auto tp = Clock::now();
+    Eigen::MatrixXd P = A * X, Du = ADu * X, Dv = ADv * X;
+    double sum = 0, wsum = 0;
+    long misses = 0, noTarget = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum, wsum, misses, noTarget)
+    for (int i = 0; i < nRows; ++i) {
+      Vec3 pi = P.row(i).transpose();
+      Vec3 n = Vec3(Du.row(i).transpose()).cross(Vec3(Dv.row(i).transpose()));
+      double nn = n.norm();
+      n = nn > 0 ? Vec3(n / nn) : Vec3::Zero();
+      Vec3 t;
+      bool hit = false;
+      if (!fitdetail::Project(scene, pi, n, maxDist, t, &hit)) ++noTarget;
+      if (i < nS) {
+        if (!hit) ++misses;
+        sum += (t - pi).squaredNorm();
+        wsum += 1;
+      }
+      T.row(i) = t.transpose();
+    }
+    res.secondsProject += Since(tp);
+    const double rms = std::sqrt(sum / std::max(wsum, 1.0));
+    res.rayMissFraction = double(misses) / std::max(nS, 1);
+    if (it == 0 && res.rayMissFraction > p.maxMissFraction) {
+      res.error = "the control mesh is far from the reference: " +
+                  std::to_string(int(std::round(100 * res.rayMissFraction))) +
+                  "% of the limit samples find no reference surface along their normal within " +
+                  std::to_string(p.maxProjectionPercent) + "% of the bbox diagonal";
+      return res;
+    }
+    res.rmsPerIteration.push_back(rms);
+    if (rms < bestRms) {
+      const bool enough = bestRms - rms < p.minImprovement * bestRms;
+      bestRms = rms;
+      best = X;
+      if (enough || it == p.maxIterations) break;
+    } else {
+      break;  // got worse: keep the previous iterate
+    }
+    prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
+    auto ts = Clock::now();
+    Eigen::MatrixXd rhs = AtW * T;
+    if (lambda > 0) rhs += lambda * X;
+    X = ldlt.solve(rhs);
+    res.secondsSolve += Since(ts);
+    ++res.iterations;
+    if (!X.allFinite()) { X = best; break; }
+  }
+  res.control.F = control.F;
+  res.control.V.resize(nV);
+  for (int v = 0; v < nV; ++v) res.control.V[v] = best.row(v).transpose();
+  res.seconds = Since(t0);
+  prog(100, "Fit: done", true);
+  return res;
+}
+
+}  // namespace vcgext

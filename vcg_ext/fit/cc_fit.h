@@ -1,0 +1,72 @@
+#pragma once
+/// \file cc_fit.h
+/// Global least-squares fit of a Catmull-Clark control mesh to a reference triangle mesh
+/// (Panozzo et al. 2011, "Fitmaps", §3.5 Final Fitting, improved):
+///  - every patch P is sampled on a k×k grid of cell centres, k = ⌊√(c·n·|P|/|M|)⌋ clamped to
+///    [minK, maxK] (n = reference vertices, |M| = reference area, |P| = area of the initial limit
+///    patch, c = samplesPerVertex);
+///  - each sample's row holds its *exact* limit stencil (OpenSubdiv Bfr, vcgext::LimitSurface),
+///    not the paper's bicubic Bézier approximation of irregular patches;
+///  - the vertex rows of system (1) (limit position of every control vertex) are added with
+///    weight `vertexWeight`;
+///  - targets = projection phi of the current limit sample onto the reference along the limit
+///    normal (nearest hit on either side within maxProjectionPercent of the reference bbox
+///    diagonal; misses fall back to the closest reference point within the same distance);
+///  - normal equations (AᵀWA + λI + μΔᵀΔ) X = AᵀWT + λX_prev factorized once with
+///    Eigen::SimplicialLDLT (the matrix depends only on the fixed samples) and re-solved at each
+///    project → solve iteration until the RMS sample-to-target distance stops improving.
+/// Regularization: λ = dampingWeight · mean(diag(AᵀWA)) pulls towards the previous iterate (a
+/// Levenberg-style damping that vanishes at convergence: the fixed point is the unregularized
+/// least-squares fit); μ = smoothWeight · mean(diag(AᵀWA)) penalizes the uniform Laplacian of the
+/// control net (default 0: off; it biases the fit).
+#include <string>
+#include <vector>
+
+#include <cstring>  // vcglib's callback.h uses strcpy without including it
+#include <wrap/callback.h>
+
+#include "vcg_ext/core/embree_scene.h"
+#include "vcg_ext/core/indexed_mesh.h"
+
+namespace vcgext {
+
+/// Parameters of FitCatmullClark. Distances in percent of the reference bbox diagonal.
+struct FitParams {
+  double samplesPerVertex = 1.0;       ///< c: total samples ≈ c · reference vertices (paper: 1)
+  int minK = 2;                        ///< minimum samples per patch side (paper: implied ≥ 1; we use 2)
+  int maxK = 32;                       ///< cap on samples per patch side (bounds the cost of huge patches)
+  double vertexWeight = 1.0;           ///< weight of the vertex rows of system (1) relative to a sample row
+  double maxProjectionPercent = 10.0;  ///< max |t| of the projection along the normal, % bbox diagonal
+  int maxIterations = 8;               ///< project → solve iterations (at least 1)
+  double minImprovement = 0.01;        ///< stop when the RMS improves by less than this fraction
+  double dampingWeight = 1e-3;         ///< λ relative to mean(diag(AᵀWA)): pull to the previous iterate
+  double smoothWeight = 0.0;           ///< μ relative to mean(diag(AᵀWA)): control-net Laplacian (off)
+  double maxMissFraction = 0.5;        ///< error if more limit samples than this miss the reference by ray
+};
+
+/// Outcome of FitCatmullClark. When `error` is non-empty, only `error` is meaningful.
+struct FitResult {
+  std::string error;
+  QuadData control;                    ///< the fitted control mesh (same connectivity as the input)
+  int patches = 0;
+  int irregularVertices = 0;           ///< interior valence ≠ 4 or boundary valence ≠ 3
+  int degeneratePatches = 0;           ///< zero-area control quads or degenerate limit normal at the centre
+  int firstDegeneratePatch = -1;
+  int samples = 0;                     ///< sample rows (without the vertex rows)
+  int minKUsed = 0, maxKUsed = 0;
+  std::vector<double> rmsPerIteration; ///< RMS sample→target distance (absolute) at each projection
+  double rayMissFraction = 0;          ///< share of samples whose normal ray missed (last projection)
+  int iterations = 0;                  ///< solves performed
+  double secondsSetup = 0, secondsFactor = 0, secondsProject = 0, secondsSolve = 0, seconds = 0;
+};
+
+/// Fits the control points of `control` (pure quads, manifold, consistently oriented) so that
+/// its Catmull-Clark limit surface approximates `ref` (paper §3.5). `scene` must be built on `ref`.
+/// Errors: empty/invalid control mesh (LimitSurface validation), empty reference, scene not ok,
+/// limit samples mostly missing the reference (control far away). Degenerate patches are counted.
+/// Cost: O(S·s²) assembly (S samples, s ≈ 16–40 stencil entries), one sparse LDLT of size
+/// #control vertices, and per iteration S ray casts + 3 triangular solves.
+FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene,
+                          const FitParams& p = {}, vcg::CallBackPos* cb = nullptr);
+
+}  // namespace vcgext
