@@ -1,0 +1,803 @@
+/// \file loop_surface.cpp
+/// Loop surface kernel: box-spline patches (§3.1), local subdivision of irregular triangles with
+/// the nudge (§3.2, Fig. 8), hard edges / vertices by the 1-D spline rules (§2.4).
+#include "vcg_ext/loop/loop_surface.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace vcgext {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Box spline (§3.1). Lattice: triangle c0=(0,0), c1=(1,0), c2=(0,1); neighbours of a lattice
+// point are +-(1,0), +-(0,1), +-(-1,1) (counter-clockwise: (1,0),(0,1),(-1,1),(-1,0),(0,-1),(1,-1)).
+// The 12 nodes in the paper's order (Fig. 6; deduced from eq. (6) and checked independently by
+// fitting the limit of regular Loop subdivision, see docs/loop.md).
+const int kNode[12][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}, {0, 2}, {-1, 2},
+                          {-1, 1}, {-1, 0}, {0, -1}, {1, -1}, {2, -1}, {2, 0}};
+// phi of eq. (6) times 12; columns: 1, v, w, v^2, vw, w^2, v^3, v^2w, vw^2, w^3, v^4, v^3w, v^2w^2, vw^3, w^4.
+const double kPhi[12][15] = {
+    {6, 0, 0, -12, -12, -12, 8, 12, 12, 8, -1, -2, 0, -2, -1},
+    {1, 4, 2, 6, 6, 0, -4, -6, -12, -4, -1, -2, 0, 4, 2},
+    {1, 2, 4, 0, 6, 6, -4, -12, -6, -4, 2, 4, 0, -2, -1},
+    {0, 0, 0, 0, 0, 0, 2, 6, 6, 2, -1, -2, 0, -2, -1},
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 1},
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0, -2, -1},
+    {1, -2, 2, 0, -6, 0, 2, 6, 0, -4, -1, -2, 0, 4, 2},
+    {1, -4, -2, 6, 6, 0, -4, -6, 0, 2, 1, 2, 0, -2, -1},
+    {1, -2, -4, 0, 6, 6, 2, 0, -6, -4, -1, -2, 0, 2, 1},
+    {1, 2, -2, 0, -6, 0, -4, 0, 6, 2, 2, 4, 0, -2, -1},
+    {0, 0, 0, 0, 0, 0, 2, 0, 0, 0, -1, -2, 0, 0, 0},
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 2, 0, 0, 0}};
+
+/// A regular patch as monomial coefficients G = X * phi / 12 (3 x 15, stored per monomial).
+struct Patch {
+  double g[15][3];
+};
+
+Patch MakePatch(const Vec3 X[12]) {
+  Patch p;
+  for (int m = 0; m < 15; ++m)
+    for (int d = 0; d < 3; ++d) {
+      double s = 0;
+      for (int i = 0; i < 12; ++i) s += X[i][d] * kPhi[i][m];
+      p.g[m][d] = s / 12.0;
+    }
+  return p;
+}
+
+inline void EvalPatch(const Patch& p, double v, double w, int order, LoopEval& e) {
+  const double v2 = v * v, w2 = w * w, vw = v * w;
+  const double c[15] = {1, v, w, v2, vw, w2, v2 * v, v2 * w, v * w2, w2 * w, v2 * v2, v2 * vw, v2 * w2, vw * w2, w2 * w2};
+  double P[3] = {0, 0, 0};
+  for (int m = 0; m < 15; ++m)
+    for (int d = 0; d < 3; ++d) P[d] += p.g[m][d] * c[m];
+  e.P = Vec3(P[0], P[1], P[2]);
+  if (order < 1) return;
+  const double cv[15] = {0, 1, 0, 2 * v, w, 0, 3 * v2, 2 * vw, w2, 0, 4 * v2 * v, 3 * v2 * w, 2 * v * w2, w2 * w, 0};
+  const double cw[15] = {0, 0, 1, 0, v, 2 * w, 0, v2, 2 * vw, 3 * w2, 0, v2 * v, 2 * v2 * w, 3 * v * w2, 4 * w2 * w};
+  double A[3] = {0, 0, 0}, B[3] = {0, 0, 0};
+  for (int m = 1; m < 15; ++m)
+    for (int d = 0; d < 3; ++d) { A[d] += p.g[m][d] * cv[m]; B[d] += p.g[m][d] * cw[m]; }
+  e.Dv = Vec3(A[0], A[1], A[2]);
+  e.Dw = Vec3(B[0], B[1], B[2]);
+  if (order < 2) return;
+  const double cvv[15] = {0, 0, 0, 2, 0, 0, 6 * v, 2 * w, 0, 0, 12 * v2, 6 * vw, 2 * w2, 0, 0};
+  const double cvw[15] = {0, 0, 0, 0, 1, 0, 0, 2 * v, 2 * w, 0, 0, 3 * v2, 4 * vw, 3 * w2, 0};
+  const double cww[15] = {0, 0, 0, 0, 0, 2, 0, 0, 2 * v, 6 * w, 0, 0, 2 * v2, 6 * vw, 12 * w2};
+  double C[3] = {0, 0, 0}, D[3] = {0, 0, 0}, E[3] = {0, 0, 0};
+  for (int m = 3; m < 15; ++m)
+    for (int d = 0; d < 3; ++d) {
+      C[d] += p.g[m][d] * cvv[m];
+      D[d] += p.g[m][d] * cvw[m];
+      E[d] += p.g[m][d] * cww[m];
+    }
+  e.Dvv = Vec3(C[0], C[1], C[2]);
+  e.Dvw = Vec3(D[0], D[1], D[2]);
+  e.Dww = Vec3(E[0], E[1], E[2]);
+}
+
+// ---------------------------------------------------------------------------------------
+// Local nets (§3.2): the faces incident to the three corners of a target triangle, with hard
+// edge flags and vertex types. Subdividing a net yields the net of any of the 4 sub-triangles.
+struct LNet {
+  std::vector<Vec3> P;
+  std::vector<unsigned char> type;  // LoopVertexType
+  std::vector<Tri> F;
+  std::vector<std::array<unsigned char, 3>> H;  // edge F[f][k] -> F[f][(k+1)%3] hard
+  int target = 0;                                // F[target] = (c0, c1, c2)
+};
+
+inline void Rot60(int& i, int& j) {  // (1,0)->(0,1)->(-1,1)->(-1,0)->...
+  int ni = -j, nj = i + j;
+  i = ni;
+  j = nj;
+}
+
+/// Regularity test and gathering of the 12 control points (with ghosts across a straight crease).
+bool Gather(const LNet& n, Vec3 X[12]) {
+  const int nf = int(n.F.size()), nv = int(n.P.size());
+  const Tri& T = n.F[n.target];
+  // corners must be smooth or crease
+  for (int k = 0; k < 3; ++k)
+    if (n.type[T[k]] == (unsigned char)LoopVertexType::Corner) return false;
+  // face adjacency inside the net
+  std::vector<std::array<int, 3>> adj(nf, {-1, -1, -1});
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      int a = n.F[f][k], b = n.F[f][(k + 1) % 3];
+      for (int g = 0; g < nf && adj[f][k] < 0; ++g) {
+        if (g == f) continue;
+        for (int j = 0; j < 3; ++j)
+          if (n.F[g][j] == b && n.F[g][(j + 1) % 3] == a) { adj[f][k] = g; break; }
+      }
+    }
+  const int UN = 1 << 20;
+  std::vector<std::array<int, 2>> co(nv, {UN, UN});
+  co[T[0]] = {0, 0};
+  co[T[1]] = {1, 0};
+  co[T[2]] = {0, 1};
+  std::vector<char> vis(nf, 0);
+  int queue[64], qh = 0, qt = 0;
+  if (nf > 64) return false;
+  queue[qt++] = n.target;
+  vis[n.target] = 1;
+  while (qh < qt) {
+    int f = queue[qh++];
+    for (int k = 0; k < 3; ++k) {
+      if (n.H[f][k]) continue;
+      int g = adj[f][k];
+      if (g < 0 || vis[g]) continue;
+      int a = n.F[f][k], b = n.F[f][(k + 1) % 3];
+      int x = -1;
+      for (int j = 0; j < 3; ++j)
+        if (n.F[g][j] != a && n.F[g][j] != b) x = n.F[g][j];
+      int di = co[a][0] - co[b][0], dj = co[a][1] - co[b][1];
+      Rot60(di, dj);
+      std::array<int, 2> cx = {co[b][0] + di, co[b][1] + dj};
+      if (co[x][0] == UN) co[x] = cx;
+      else if (co[x] != cx) return false;
+      vis[g] = 1;
+      queue[qt++] = g;
+    }
+  }
+  // corner checks
+  bool haveLine = false;
+  int lp[2] = {0, 0}, ld[2] = {0, 0};
+  for (int k = 0; k < 3; ++k) {
+    int c = T[k];
+    int incident = 0, visited = 0;
+    int nh = 0;
+    for (int f = 0; f < nf; ++f)
+      for (int j = 0; j < 3; ++j)
+        if (n.F[f][j] == c) {
+          ++incident;
+          if (vis[f]) ++visited;
+          if (n.H[f][j]) ++nh;
+          if (n.H[f][(j + 2) % 3]) ++nh;
+        }
+    if (n.type[c] == (unsigned char)LoopVertexType::Smooth) {
+      if (incident != 6 || visited != 6 || nh != 0) return false;
+    } else {  // crease: 3 faces on this side, two collinear hard edges
+      if (visited != 3) return false;
+      // distinct hard neighbours among visited faces
+      int a = -1, b = -1;
+      for (int f = 0; f < nf; ++f) {
+        if (!vis[f]) continue;
+        for (int j = 0; j < 3; ++j)
+          if (n.F[f][j] == c) {
+            if (n.H[f][j]) { int o = n.F[f][(j + 1) % 3]; if (a < 0) a = o; else if (o != a) b = o; }
+            if (n.H[f][(j + 2) % 3]) { int o = n.F[f][(j + 2) % 3]; if (a < 0) a = o; else if (o != a) b = o; }
+          }
+      }
+      if (a < 0 || b < 0) return false;
+      if (co[a][0] + co[b][0] != 2 * co[c][0] || co[a][1] + co[b][1] != 2 * co[c][1]) return false;
+      int d[2] = {co[a][0] - co[c][0], co[a][1] - co[c][1]};
+      if (!haveLine) {
+        haveLine = true;
+        lp[0] = co[c][0]; lp[1] = co[c][1]; ld[0] = d[0]; ld[1] = d[1];
+      } else {
+        // same line: direction parallel and c on it
+        if (ld[0] * d[1] - ld[1] * d[0] != 0) return false;
+        if (ld[0] * (co[c][1] - lp[1]) - ld[1] * (co[c][0] - lp[0]) != 0) return false;
+      }
+    }
+  }
+  auto side = [&](int i, int j) { return ld[0] * (j - lp[1]) - ld[1] * (i - lp[0]); };
+  int tside = 0;
+  if (haveLine) {
+    // side of the target: centroid*3 test with corners (at least one corner off the line)
+    for (int k = 0; k < 3; ++k) {
+      int s = side(co[T[k]][0], co[T[k]][1]);
+      if (s != 0) tside = s > 0 ? 1 : -1;
+    }
+    if (tside == 0) return false;
+  }
+  // assemble the 12 nodes
+  int idx[12];
+  for (int m = 0; m < 12; ++m) idx[m] = -1;
+  for (int v = 0; v < nv; ++v) {
+    if (co[v][0] == UN) continue;
+    if (haveLine) {
+      int s = side(co[v][0], co[v][1]);
+      if (s * tside < 0) return false;  // reached the other side around the end of the crease
+    }
+    for (int m = 0; m < 12; ++m)
+      if (co[v][0] == kNode[m][0] && co[v][1] == kNode[m][1]) {
+        if (idx[m] >= 0 && idx[m] != v) return false;
+        idx[m] = v;
+      }
+  }
+  auto find = [&](int i, int j) {
+    for (int v = 0; v < nv; ++v)
+      if (co[v][0] == i && co[v][1] == j) return v;
+    return -1;
+  };
+  for (int m = 0; m < 12; ++m) {
+    if (idx[m] >= 0) { X[m] = n.P[idx[m]]; continue; }
+    if (!haveLine) return false;
+    int gi = kNode[m][0], gj = kNode[m][1];
+    int s = side(gi, gj);
+    if (s * tside >= 0 || std::abs(s) != 1) return false;
+    // the two lattice neighbours of g on the line, and the apex on the target side
+    int cand[2], nc = 0;
+    int di = 1, dj = 0;
+    for (int r = 0; r < 6; ++r, Rot60(di, dj)) {
+      int qi = gi + di, qj = gj + dj;
+      if (side(qi, qj) == 0 && nc < 2) cand[nc++] = r;
+    }
+    if (nc != 2) return false;
+    int ai = gi, aj = gj, bi = gi, bj = gj;
+    {
+      int ti = 1, tj = 0;
+      for (int r = 0; r < 6; ++r, Rot60(ti, tj)) {
+        if (r == cand[0]) { ai = gi + ti; aj = gj + tj; }
+        if (r == cand[1]) { bi = gi + ti; bj = gj + tj; }
+      }
+    }
+    int a = find(ai, aj), b = find(bi, bj), c = find(ai + bi - gi, aj + bj - gj);
+    if (a < 0 || b < 0 || c < 0) return false;
+    X[m] = n.P[a] + n.P[b] - n.P[c];
+  }
+  return true;
+}
+
+double LoopBeta(int k) {
+  double t = 0.375 + 0.25 * std::cos(2.0 * M_PI / k);
+  return (0.625 - t * t) / k;
+}
+
+/// One step of local Loop subdivision: the net of sub-triangle `child` (0..2 corner c_child, 3 middle).
+LNet Subdivide(const LNet& n, int child) {
+  const Tri T = n.F[n.target];
+  auto isCorner = [&](int v) { return v == T[0] || v == T[1] || v == T[2]; };
+  const int nv = int(n.P.size());
+  LNet out;
+  // new vertex ids: vertex points of corners, edge points of edges touching a corner
+  int vp[3];
+  for (int k = 0; k < 3; ++k) {
+    int c = T[k];
+    Vec3 sum = Vec3::Zero();
+    int val = 0;
+    Vec3 hsum = Vec3::Zero();
+    int nh = 0;
+    for (size_t f = 0; f < n.F.size(); ++f)
+      for (int j = 0; j < 3; ++j)
+        if (n.F[f][j] == c) {
+          ++val;
+          sum += n.P[n.F[f][(j + 1) % 3]];  // each ring vertex once (closed fan)
+          if (n.H[f][j]) { hsum += n.P[n.F[f][(j + 1) % 3]]; ++nh; }
+          if (n.H[f][(j + 2) % 3]) { hsum += n.P[n.F[f][(j + 2) % 3]]; ++nh; }
+        }
+    Vec3 p;
+    unsigned char t = n.type[c];
+    if (t == (unsigned char)LoopVertexType::Smooth) {
+      double b = LoopBeta(val);
+      p = (1.0 - val * b) * n.P[c] + b * sum;
+    } else if (t == (unsigned char)LoopVertexType::Crease) {
+      // each hard edge seen from both of its faces, except on a boundary: average distinct ones
+      // (hsum holds each hard neighbour once or twice; normalise to the two neighbours)
+      Vec3 hs = Vec3::Zero();
+      int cnt = 0;
+      int seen[4], ns = 0;
+      for (size_t f = 0; f < n.F.size(); ++f)
+        for (int j = 0; j < 3; ++j)
+          if (n.F[f][j] == c) {
+            int cands[2] = {n.H[f][j] ? n.F[f][(j + 1) % 3] : -1, n.H[f][(j + 2) % 3] ? n.F[f][(j + 2) % 3] : -1};
+            for (int o : cands) {
+              if (o < 0) continue;
+              bool dup = false;
+              for (int s = 0; s < ns; ++s) dup |= seen[s] == o;
+              if (!dup && ns < 4) { seen[ns++] = o; hs += n.P[o]; ++cnt; }
+            }
+          }
+      (void)hsum;
+      (void)nh;
+      p = cnt == 2 ? Vec3((hs + 6.0 * n.P[c]) / 8.0) : n.P[c];
+    } else {
+      p = n.P[c];
+    }
+    vp[k] = int(out.P.size());
+    out.P.push_back(p);
+    out.type.push_back(t);
+  }
+  // edges
+  struct E { int a, b, id; };
+  std::vector<E> edges;
+  auto edgeId = [&](int a, int b) {
+    if (a > b) std::swap(a, b);
+    for (const E& e : edges)
+      if (e.a == a && e.b == b) return e.id;
+    return -1;
+  };
+  std::vector<Vec3> opp;
+  std::vector<int> oppCount;
+  std::vector<unsigned char> ehard;
+  for (size_t f = 0; f < n.F.size(); ++f)
+    for (int j = 0; j < 3; ++j) {
+      int a = n.F[f][j], b = n.F[f][(j + 1) % 3], o = n.F[f][(j + 2) % 3];
+      if (!isCorner(a) && !isCorner(b)) continue;
+      int id = edgeId(a, b);
+      if (id < 0) {
+        id = int(out.P.size());
+        edges.push_back({std::min(a, b), std::max(a, b), id});
+        out.P.push_back(Vec3::Zero());
+        out.type.push_back(n.H[f][j] ? (unsigned char)LoopVertexType::Crease : (unsigned char)LoopVertexType::Smooth);
+        opp.push_back(Vec3::Zero());
+        oppCount.push_back(0);
+        ehard.push_back(n.H[f][j]);
+      }
+      int e = id - 3;
+      opp[e] += n.P[o];
+      oppCount[e]++;
+      ehard[e] |= n.H[f][j];
+    }
+  for (const E& e : edges) {
+    int k = e.id - 3;
+    if (ehard[k] || oppCount[k] != 2) out.P[e.id] = 0.5 * (n.P[e.a] + n.P[e.b]);
+    else out.P[e.id] = 0.375 * (n.P[e.a] + n.P[e.b]) + 0.125 * opp[k];
+    out.type[e.id] = ehard[k] ? (unsigned char)LoopVertexType::Crease : (unsigned char)LoopVertexType::Smooth;
+  }
+  auto vpOf = [&](int v) { for (int k = 0; k < 3; ++k) if (T[k] == v) return vp[k]; return -1; };
+  // child corners
+  int e01 = edgeId(T[0], T[1]), e12 = edgeId(T[1], T[2]), e20 = edgeId(T[2], T[0]);
+  Tri ct;
+  switch (child) {
+    case 0: ct = {vp[0], e01, e20}; break;
+    case 1: ct = {vp[1], e12, e01}; break;
+    case 2: ct = {vp[2], e20, e12}; break;
+    default: ct = {e12, e20, e01}; break;
+  }
+  auto isChildCorner = [&](int v) { return v == ct[0] || v == ct[1] || v == ct[2]; };
+  std::vector<Tri> F;
+  std::vector<std::array<unsigned char, 3>> H;
+  int target = -1;
+  auto add = [&](Tri t, std::array<unsigned char, 3> h) {
+    if (t[0] < 0 || t[1] < 0 || t[2] < 0) return;
+    if (!isChildCorner(t[0]) && !isChildCorner(t[1]) && !isChildCorner(t[2])) return;
+    // target face: rotate to ct order
+    for (int r = 0; r < 3; ++r)
+      if (t[r] == ct[0] && t[(r + 1) % 3] == ct[1] && t[(r + 2) % 3] == ct[2]) {
+        Tri tt = {t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+        std::array<unsigned char, 3> hh = {h[r], h[(r + 1) % 3], h[(r + 2) % 3]};
+        target = int(F.size());
+        F.push_back(tt);
+        H.push_back(hh);
+        return;
+      }
+    F.push_back(t);
+    H.push_back(h);
+  };
+  for (size_t f = 0; f < n.F.size(); ++f) {
+    int a = n.F[f][0], b = n.F[f][1], c = n.F[f][2];
+    int eab = (isCorner(a) || isCorner(b)) ? edgeId(a, b) : -1;
+    int ebc = (isCorner(b) || isCorner(c)) ? edgeId(b, c) : -1;
+    int eca = (isCorner(c) || isCorner(a)) ? edgeId(c, a) : -1;
+    const auto& h = n.H[f];
+    if (isCorner(a)) add({vpOf(a), eab, eca}, {h[0], 0, h[2]});
+    if (isCorner(b)) add({vpOf(b), ebc, eab}, {h[1], 0, h[0]});
+    if (isCorner(c)) add({vpOf(c), eca, ebc}, {h[2], 0, h[1]});
+    add({eab, ebc, eca}, {0, 0, 0});
+  }
+  (void)nv;
+  // compact
+  std::vector<int> remap(out.P.size(), -1);
+  LNet res;
+  for (const Tri& t : F)
+    for (int k = 0; k < 3; ++k)
+      if (remap[t[k]] < 0) {
+        remap[t[k]] = int(res.P.size());
+        res.P.push_back(out.P[t[k]]);
+        res.type.push_back(out.type[t[k]]);
+      }
+  res.F.resize(F.size());
+  for (size_t f = 0; f < F.size(); ++f)
+    for (int k = 0; k < 3; ++k) res.F[f][k] = remap[F[f][k]];
+  res.H = H;
+  res.target = target;
+  return res;
+}
+
+/// Child selection and affine parameter map (v', w') = A (v, w) + b (see the file comment).
+inline int ChildOf(double v, double w) {
+  if (v + w <= 0.5) return 0;
+  if (v >= 0.5) return 1;
+  if (w >= 0.5) return 2;
+  return 3;
+}
+const double kA[4][2][2] = {{{2, 0}, {0, 2}}, {{0, 2}, {-2, -2}}, {{-2, -2}, {2, 0}}, {{-2, 0}, {0, -2}}};
+const double kB[4][2] = {{0, 0}, {0, 2}, {2, 0}, {1, 1}};
+
+inline void ClampParam(double& v, double& w) {
+  if (v < 0) v = 0;
+  if (w < 0) w = 0;
+  double s = v + w;
+  if (s > 1) { v /= s; w /= s; }
+}
+
+struct Node {
+  int child[4] = {-1, -1, -1, -1};
+  int patch = -1;
+  int net = -1;
+};
+
+struct TriCache {
+  std::vector<Node> nodes;
+  std::vector<Patch> patches;
+  std::vector<LNet> nets;
+};
+
+}  // namespace
+
+struct LoopSurface::Impl {
+  std::vector<int> regular;  // patch index for regular faces, -1 otherwise
+  std::vector<Patch> regPatches;
+  std::vector<TriCache> cache;  // for irregular faces (indexed by face)
+  std::vector<std::vector<int>> hardNb;  // per vertex: hard-edge neighbours
+  Adjacency vv;
+  int maxDepth = 25;
+
+  int BuildNode(TriCache& tc, const LNet& n, int depth, int cacheDepth) {
+    int id = int(tc.nodes.size());
+    tc.nodes.emplace_back();
+    Vec3 X[12];
+    if (Gather(n, X)) {
+      tc.nodes[id].patch = int(tc.patches.size());
+      tc.patches.push_back(MakePatch(X));
+      return id;
+    }
+    if (depth >= cacheDepth) {
+      tc.nodes[id].net = int(tc.nets.size());
+      tc.nets.push_back(n);
+      return id;
+    }
+    for (int c = 0; c < 4; ++c) {
+      int ch = BuildNode(tc, Subdivide(n, c), depth + 1, cacheDepth);
+      tc.nodes[id].child[c] = ch;
+    }
+    return id;
+  }
+};
+
+namespace {
+
+/// Applies the accumulated chain rule: derivatives w.r.t. the original (v,w) from those w.r.t.
+/// the leaf parameters, J = d(leaf)/d(orig).
+inline void ApplyJacobian(const double J[2][2], LoopEval& e, int order) {
+  if (order < 1) return;
+  Vec3 dv = J[0][0] * e.Dv + J[1][0] * e.Dw;
+  Vec3 dw = J[0][1] * e.Dv + J[1][1] * e.Dw;
+  e.Dv = dv;
+  e.Dw = dw;
+  if (order < 2) return;
+  // H = J^T H' J
+  Vec3 h00 = e.Dvv, h01 = e.Dvw, h11 = e.Dww;
+  auto comb = [&](int a, int b) {
+    return Vec3(J[0][a] * J[0][b] * h00 + (J[0][a] * J[1][b] + J[1][a] * J[0][b]) * h01 + J[1][a] * J[1][b] * h11);
+  };
+  e.Dvv = comb(0, 0);
+  e.Dvw = comb(0, 1);
+  e.Dww = comb(1, 1);
+}
+
+inline void StepJ(double J[2][2], int c) {
+  double N[2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) N[i][j] = kA[c][i][0] * J[0][j] + kA[c][i][1] * J[1][j];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) J[i][j] = N[i][j];
+}
+
+}  // namespace
+
+LoopCurvature CurvatureFromDerivatives(const LoopEval& e) {
+  LoopCurvature k;
+  double E = e.Dv.dot(e.Dv), F = e.Dv.dot(e.Dw), G = e.Dw.dot(e.Dw);
+  double det = E * G - F * F;
+  if (!(det > 0) || e.N.squaredNorm() == 0) return k;
+  double L = -e.Dvv.dot(e.N), M = -e.Dvw.dot(e.N), N = -e.Dww.dot(e.N);
+  double H = (E * N - 2 * F * M + G * L) / (2 * det);
+  double K = (L * N - M * M) / det;
+  double disc = std::sqrt(std::max(0.0, H * H - K));
+  k.k1 = H + disc;
+  k.k2 = H - disc;
+  auto dir = [&](double kk) {
+    // (II - k I) x = 0
+    double a0 = M - kk * F, a1 = -(L - kk * E);
+    double b0 = N - kk * G, b1 = -(M - kk * F);
+    double x0, x1;
+    if (a0 * a0 + a1 * a1 >= b0 * b0 + b1 * b1) { x0 = a0; x1 = a1; } else { x0 = b0; x1 = b1; }
+    if (x0 * x0 + x1 * x1 < 1e-300) { x0 = 1; x1 = 0; }
+    Vec3 d = x0 * e.Dv + x1 * e.Dw;
+    double l = d.norm();
+    return l > 0 ? Vec3(d / l) : d;
+  };
+  k.d1 = dir(k.k1);
+  k.d2 = e.N.cross(k.d1);
+  if (disc < 1e-14 * (std::abs(H) + 1e-300)) {  // umbilic: any orthonormal pair
+    k.d1 = e.Dv.normalized();
+    k.d2 = e.N.cross(k.d1);
+  }
+  return k;
+}
+
+LoopSurface::LoopSurface() : impl_(new Impl) {}
+LoopSurface::~LoopSurface() = default;
+LoopSurface::LoopSurface(LoopSurface&&) noexcept = default;
+LoopSurface& LoopSurface::operator=(LoopSurface&&) noexcept = default;
+
+LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(net), params_(p), impl_(new Impl) {
+  const int nV = int(net.V.size()), nF = int(net.F.size());
+  if (nV == 0 || nF == 0) { error_ = "the control net is empty (" + std::to_string(nV) + " vertices, " + std::to_string(nF) + " faces)"; return; }
+  {
+    int bad = 0, first = -1;
+    for (int i = 0; i < nV; ++i)
+      if (!net.V[i].allFinite()) { if (first < 0) first = i; ++bad; }
+    if (bad) { error_ = std::to_string(bad) + " vertices have NaN or infinite coordinates (first: vertex " + std::to_string(first) + ")"; return; }
+  }
+  for (int f = 0; f < nF; ++f) {
+    const Tri& t = net.F[f];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] < 0 || t[k] >= nV) { error_ = "face " + std::to_string(f) + " has an out-of-range vertex index " + std::to_string(t[k]); return; }
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { error_ = "face " + std::to_string(f) + " repeats a vertex"; return; }
+  }
+  // edges: sort directed half-edges by undirected key
+  struct HE { int64_t key; int f, k; };
+  std::vector<HE> he(3 * size_t(nF));
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      int a = net.F[f][k], b = net.F[f][(k + 1) % 3];
+      he[3 * f + k] = {int64_t(std::min(a, b)) * nV + std::max(a, b), f, k};
+    }
+  std::sort(he.begin(), he.end(), [](const HE& x, const HE& y) { return x.key < y.key || (x.key == y.key && x.f < y.f); });
+  adj_.assign(nF, {-1, -1, -1});
+  hard_.assign(nF, {0, 0, 0});
+  int nonManifold = 0, misoriented = 0, firstNM = -1, firstMis = -1;
+  std::vector<Vec3> fn = FaceNormals(net);
+  const double cosT = (p.creaseAngleDeg > 0 && p.creaseAngleDeg < 180) ? std::cos(p.creaseAngleDeg * M_PI / 180.0) : -2.0;
+  for (size_t i = 0; i < he.size();) {
+    size_t j = i;
+    while (j < he.size() && he[j].key == he[i].key) ++j;
+    if (j - i > 2) { ++nonManifold; if (firstNM < 0) firstNM = he[i].f; }
+    else if (j - i == 2) {
+      const HE &x = he[i], &y = he[i + 1];
+      int ax = net.F[x.f][x.k], ay = net.F[y.f][y.k];
+      if (ax == ay) { ++misoriented; if (firstMis < 0) firstMis = x.f; }
+      adj_[x.f][x.k] = y.f;
+      adj_[y.f][y.k] = x.f;
+      double c = fn[x.f].dot(fn[y.f]);
+      if (fn[x.f].squaredNorm() > 0 && fn[y.f].squaredNorm() > 0 && c < cosT) hard_[x.f][x.k] = hard_[y.f][y.k] = 1;
+    } else {
+      hard_[he[i].f][he[i].k] = 1;  // boundary edges are hard
+    }
+    i = j;
+  }
+  if (nonManifold) { error_ = std::to_string(nonManifold) + " non-manifold edges (shared by more than two faces; first at face " + std::to_string(firstNM) + ")"; return; }
+  if (misoriented) { error_ = std::to_string(misoriented) + " edges with inconsistently oriented faces (first at face " + std::to_string(firstMis) + "): orient the mesh first"; return; }
+  for (const auto& e : p.extraHardEdges) {
+    int a = e.first, b = e.second;
+    if (a < 0 || b < 0 || a >= nV || b >= nV || a == b) { error_ = "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") has invalid vertex indices"; return; }
+    int64_t key = int64_t(std::min(a, b)) * nV + std::max(a, b);
+    auto it = std::lower_bound(he.begin(), he.end(), key, [](const HE& x, int64_t k) { return x.key < k; });
+    if (it == he.end() || it->key != key) { error_ = "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") is not an edge of the mesh"; return; }
+    for (; it != he.end() && it->key == key; ++it) hard_[it->f][it->k] = 1;
+  }
+  // vertex types
+  impl_->vv = VertexVertexAdjacency(net.F, nV);
+  Adjacency vf = VertexFaceAdjacency(net.F, nV);
+  impl_->hardNb.assign(nV, {});
+  vcorner_.assign(nV, {-1, -1});
+  numHardEdges_ = 0;
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      if (vcorner_[net.F[f][k]].first < 0) vcorner_[net.F[f][k]] = {f, k};
+      if (!hard_[f][k]) continue;
+      int a = net.F[f][k], b = net.F[f][(k + 1) % 3];
+      if (adj_[f][k] >= 0 && adj_[f][k] < f) continue;  // count interior edges once
+      impl_->hardNb[a].push_back(b);
+      impl_->hardNb[b].push_back(a);
+      ++numHardEdges_;
+    }
+  vtype_.assign(nV, LoopVertexType::Smooth);
+  for (int i = 0; i < nV; ++i) {
+    int nf = vf.Count(i), nn = impl_->vv.Count(i), nh = int(impl_->hardNb[i].size());
+    int boundary = 0;
+    for (const int* f = vf.Begin(i); f != vf.End(i); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (adj_[*f][k] < 0 && (net.F[*f][k] == i || net.F[*f][(k + 1) % 3] == i)) ++boundary;
+    bool manifold = (boundary == 0 && nf == nn) || (boundary == 2 && nn == nf + 1);
+    if (nf == 0) vtype_[i] = LoopVertexType::Smooth;
+    else if (!manifold || nh > 2) vtype_[i] = LoopVertexType::Corner;
+    else if (nh == 2) vtype_[i] = LoopVertexType::Crease;
+    else vtype_[i] = LoopVertexType::Smooth;  // 0 hard edges or a dart
+    if (vtype_[i] == LoopVertexType::Corner && nh < 3) {
+      // a non-manifold vertex: fixed; its hard neighbours do not matter
+    }
+  }
+  // patches
+  impl_->maxDepth = std::max(1, std::min(p.maxDepth, 40));
+  const int cacheDepth = std::max(0, std::min(p.cacheDepth, 10));
+  impl_->regular.assign(nF, -1);
+  impl_->cache.resize(nF);
+  std::vector<char> isReg(nF, 0);
+  std::vector<Patch> tmpPatch(nF);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int f = 0; f < nF; ++f) {
+    // local net: faces incident to the corners of f
+    LNet n;
+    std::vector<int> local(0);
+    std::vector<int> faces;
+    for (int k = 0; k < 3; ++k)
+      for (const int* g = vf.Begin(net.F[f][k]); g != vf.End(net.F[f][k]); ++g)
+        if (std::find(faces.begin(), faces.end(), *g) == faces.end()) faces.push_back(*g);
+    std::vector<std::pair<int, int>> map;  // global -> local
+    auto loc = [&](int gv) {
+      for (auto& m : map)
+        if (m.first == gv) return m.second;
+      int id = int(n.P.size());
+      map.push_back({gv, id});
+      n.P.push_back(net.V[gv]);
+      n.type.push_back((unsigned char)vtype_[gv]);
+      return id;
+    };
+    for (int k = 0; k < 3; ++k) loc(net.F[f][k]);
+    for (int g : faces) {
+      Tri t = {loc(net.F[g][0]), loc(net.F[g][1]), loc(net.F[g][2])};
+      if (g == f) n.target = int(n.F.size());
+      n.F.push_back(t);
+      n.H.push_back(hard_[g]);
+    }
+    Vec3 X[12];
+    if (Gather(n, X)) {
+      isReg[f] = 1;
+      tmpPatch[f] = MakePatch(X);
+    } else {
+      impl_->BuildNode(impl_->cache[f], n, 0, cacheDepth);
+    }
+  }
+  numIrregularFaces_ = 0;
+  for (int f = 0; f < nF; ++f) {
+    if (isReg[f]) {
+      impl_->regular[f] = int(impl_->regPatches.size());
+      impl_->regPatches.push_back(tmpPatch[f]);
+    } else {
+      ++numIrregularFaces_;
+    }
+  }
+}
+
+int LoopSurface::NumCornerVertices() const {
+  int c = 0;
+  for (auto t : vtype_) c += t == LoopVertexType::Corner;
+  return c;
+}
+
+bool LoopSurface::FaceIsRegular(int f) const { return impl_->regular[f] >= 0; }
+
+size_t LoopSurface::CacheBytes() const {
+  size_t b = impl_->regPatches.size() * sizeof(Patch);
+  for (const auto& c : impl_->cache) {
+    b += c.nodes.size() * sizeof(Node) + c.patches.size() * sizeof(Patch);
+    for (const auto& n : c.nets) b += n.P.size() * (sizeof(Vec3) + 1) + n.F.size() * (sizeof(Tri) + 3);
+  }
+  return b;
+}
+
+bool LoopSurface::Evaluate(int face, double v, double w, LoopEval& e, int order) const {
+  if (!Ok() || face < 0 || face >= NumFaces()) return false;
+  ClampParam(v, w);
+  const Impl& I = *impl_;
+  int rp = I.regular[face];
+  if (rp >= 0) {
+    EvalPatch(I.regPatches[rp], v, w, order, e);
+    e.depth = 0;
+  } else {
+    const TriCache& tc = I.cache[face];
+    double J[2][2] = {{1, 0}, {0, 1}};
+    int node = 0, depth = 0;
+    while (tc.nodes[node].patch < 0 && tc.nodes[node].net < 0) {
+      int c = ChildOf(v, w);
+      double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
+      double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
+      v = nv; w = nw;
+      ClampParam(v, w);
+      StepJ(J, c);
+      node = tc.nodes[node].child[c];
+      ++depth;
+    }
+    if (tc.nodes[node].patch >= 0) {
+      EvalPatch(tc.patches[tc.nodes[node].patch], v, w, order, e);
+    } else {
+      LNet n = tc.nets[tc.nodes[node].net];
+      Vec3 X[12];
+      for (;;) {
+        if (Gather(n, X)) {
+          EvalPatch(MakePatch(X), v, w, order, e);
+          break;
+        }
+        int c = depth >= I.maxDepth ? 3 : ChildOf(v, w);  // the nudge (Fig. 8)
+        double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
+        double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
+        v = nv; w = nw;
+        ClampParam(v, w);
+        StepJ(J, c);
+        n = Subdivide(n, c);
+        ++depth;
+        if (depth > I.maxDepth + 2) {  // cannot happen for a valid net: bail out safely
+          EvalPatch(MakePatch(X), v, w, 0, e);
+          break;
+        }
+      }
+    }
+    ApplyJacobian(J, e, order);
+    e.depth = depth;
+  }
+  if (order >= 1) {
+    Vec3 n = e.Dv.cross(e.Dw);
+    double l = n.norm();
+    e.N = l > 0 ? Vec3(n / l) : Vec3::Zero();
+  }
+  return true;
+}
+
+Vec3 LoopSurface::Position(int face, double v, double w) const {
+  LoopEval e;
+  Evaluate(face, v, w, e, 0);
+  return e.P;
+}
+
+LoopCurvature LoopSurface::Curvature(int face, double v, double w, LoopEval* eval) const {
+  LoopEval e;
+  Evaluate(face, v, w, e, 2);
+  if (eval) *eval = e;
+  return CurvatureFromDerivatives(e);
+}
+
+void LoopSurface::LimitMatrixTriplets(std::vector<int>& rows, std::vector<int>& cols, std::vector<double>& wts) const {
+  rows.clear(); cols.clear(); wts.clear();
+  const int nV = NumVertices();
+  for (int i = 0; i < nV; ++i) {
+    auto add = [&](int j, double x) { rows.push_back(i); cols.push_back(j); wts.push_back(x); };
+    int k = impl_->vv.Count(i);
+    if (vtype_[i] == LoopVertexType::Corner || k == 0) { add(i, 1.0); continue; }
+    if (vtype_[i] == LoopVertexType::Crease) {
+      add(i, 4.0 / 6.0);
+      for (int j : impl_->hardNb[i]) add(j, 1.0 / 6.0);
+      continue;
+    }
+    double chi = 1.0 / (k + 3.0 / (8.0 * LoopBeta(k)));
+    add(i, 1.0 - k * chi);
+    for (const int* j = impl_->vv.Begin(i); j != impl_->vv.End(i); ++j) add(*j, chi);
+  }
+}
+
+std::vector<Vec3> LoopSurface::VertexLimits(const std::vector<Vec3>& X) const {
+  std::vector<int> r, c;
+  std::vector<double> w;
+  LimitMatrixTriplets(r, c, w);
+  std::vector<Vec3> out(X.size(), Vec3::Zero());
+  for (size_t t = 0; t < r.size(); ++t) out[r[t]] += w[t] * X[c[t]];
+  return out;
+}
+
+Vec3 LoopSurface::VertexLimit(int i) const {
+  const int k = impl_->vv.Count(i);
+  const Vec3& x = net_.V[i];
+  if (vtype_[i] == LoopVertexType::Corner || k == 0) return x;
+  if (vtype_[i] == LoopVertexType::Crease) {
+    Vec3 s = 4.0 * x;
+    for (int j : impl_->hardNb[i]) s += net_.V[j];
+    return s / 6.0;
+  }
+  double chi = 1.0 / (k + 3.0 / (8.0 * LoopBeta(k)));
+  Vec3 s = (1.0 - k * chi) * x;
+  for (const int* j = impl_->vv.Begin(i); j != impl_->vv.End(i); ++j) s += chi * net_.V[*j];
+  return s;
+}
+
+}  // namespace vcgext
