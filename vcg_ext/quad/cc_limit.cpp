@@ -1,0 +1,197 @@
+#include "vcg_ext/quad/cc_limit.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/IterativeLinearSolvers>
+
+#include <cmath>
+
+namespace vcgext {
+namespace quad {
+
+namespace {
+thread_local std::vector<Wedge> tlFan;
+}
+
+bool VertexLimitMask(const QuadMesh& m, int v, std::vector<std::pair<int, double>>& mask) {
+  mask.clear();
+  if (!m.VertAlive(v)) return false;
+  std::vector<Wedge>& w = tlFan;
+  bool open = false;
+  if (!m.Fan(v, w, &open)) return false;
+  if (open) {
+    mask.push_back({v, 4.0 / 6.0});
+    mask.push_back({w.front().p, 1.0 / 6.0});
+    mask.push_back({w.back().n, 1.0 / 6.0});
+    return true;
+  }
+  const double n = double(w.size());
+  const double den = n * (n + 5.0);
+  mask.push_back({v, n * n / den});
+  for (const Wedge& x : w) {
+    mask.push_back({x.n, 4.0 / den});
+    mask.push_back({x.o, 1.0 / den});
+  }
+  return true;
+}
+
+Vec3 VertexLimit(const QuadMesh& m, int v) {
+  thread_local std::vector<std::pair<int, double>> mask;
+  if (!VertexLimitMask(m, v, mask)) return m.P[v];
+  Vec3 p = Vec3::Zero();
+  for (auto& [i, wt] : mask) p += wt * m.P[i];
+  return p;
+}
+
+bool VertexLimitFrame(const QuadMesh& m, int v, Vec3* pos, Vec3* normal) {
+  if (!m.VertAlive(v) || m.IsBoundary(v)) return false;
+  std::vector<Wedge>& w = tlFan;
+  bool open = false;
+  if (!m.Fan(v, w, &open) || open) return false;
+  const int n = int(w.size());
+  const double nn = double(n);
+  Vec3 p = nn * nn * m.P[v];
+  for (const Wedge& x : w) p += 4.0 * m.P[x.n] + m.P[x.o];
+  p /= nn * (nn + 5.0);
+  if (pos) *pos = p;
+  // e_i = w[i].n, f_i (between e_i and e_{i+1}) = w[i+1].o; the walk is clockwise.
+  const double c2 = std::cos(2 * M_PI / nn);
+  const double A = 1.0 + c2 + std::cos(M_PI / nn) * std::sqrt(2.0 * (9.0 + c2));
+  Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
+  for (int i = 0; i < n; ++i) {
+    double a0 = 2 * M_PI * i / nn, a1 = 2 * M_PI * (i + 1) / nn;
+    const Vec3& e = m.P[w[i].n];
+    const Vec3& f = m.P[w[(i + 1) % n].o];
+    t1 += A * std::cos(a0) * e + (std::cos(a0) + std::cos(a1)) * f;
+    t2 += A * std::sin(a0) * e + (std::sin(a0) + std::sin(a1)) * f;
+  }
+  Vec3 nr = t2.cross(t1);  // clockwise walk: t2 x t1 follows the faces' orientation
+  double l = nr.norm();
+  if (!(l > 0)) return false;
+  if (normal) *normal = nr / l;
+  return true;
+}
+
+namespace {
+// Catmull-Clark vertex point of control vertex v (one refinement step).
+Vec3 VertexPoint(const QuadMesh& m, int v) {
+  std::vector<Wedge>& w = tlFan;
+  bool open = false;
+  if (!m.Fan(v, w, &open)) return m.P[v];
+  if (open) return (m.P[w.front().p] + 6.0 * m.P[v] + m.P[w.back().n]) / 8.0;
+  const double n = double(w.size());
+  Vec3 Q = Vec3::Zero(), R = Vec3::Zero();
+  for (const Wedge& x : w) {
+    Q += m.Centroid(x.f);
+    R += 0.5 * (m.P[v] + m.P[x.n]);
+  }
+  Q /= n;
+  R /= n;
+  return (Q + 2.0 * R + (n - 3.0) * m.P[v]) / n;
+}
+}  // namespace
+
+bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal) {
+  if (!m.FaceAlive(f)) return false;
+  const Quad& q = m.F[f];
+  const Vec3 Fp = m.Centroid(f);
+  Vec3 E[4], V[4];
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& a = m.P[q[k]];
+    const Vec3& b = m.P[q[(k + 1) & 3]];
+    int g = m.AcrossEdge(f, k);
+    E[k] = g < 0 ? Vec3(0.5 * (a + b)) : Vec3(0.25 * (a + b + Fp + m.Centroid(g)));
+    V[k] = VertexPoint(m, q[k]);
+  }
+  if (pos) *pos = (16.0 * Fp + 4.0 * (E[0] + E[1] + E[2] + E[3]) + (V[0] + V[1] + V[2] + V[3])) / 36.0;
+  if (normal) {
+    // regular bicubic B-spline at the centre of the 3x3 refined control grid:
+    // u runs q0->q1 (E1 at u+, E3 at u-), v runs q0->q3 (E2 at v+, E0 at v-).
+    Vec3 du = 4.0 * (E[1] - E[3]) + (V[1] + V[2] - V[0] - V[3]);
+    Vec3 dv = 4.0 * (E[2] - E[0]) + (V[2] + V[3] - V[0] - V[1]);
+    Vec3 nr = du.cross(dv);
+    double l = nr.norm();
+    if (!(l > 0)) return false;
+    *normal = nr / l;
+  }
+  return true;
+}
+
+InterpolationStats SolveInterpolationLocal(QuadMesh& m, const std::vector<int>& W,
+                                           const std::vector<Vec3>& targets, double tol, int maxIter) {
+  InterpolationStats st;
+  std::vector<std::pair<int, double>> mask;
+  for (int it = 0; it < maxIter; ++it) {
+    double maxRes = 0;
+    for (size_t i = 0; i < W.size(); ++i) {
+      int v = W[i];
+      if (!VertexLimitMask(m, v, mask)) continue;
+      Vec3 lim = Vec3::Zero();
+      double diag = 0;
+      for (auto& [j, wt] : mask) {
+        lim += wt * m.P[j];
+        if (j == v) diag += wt;
+      }
+      Vec3 r = targets[i] - lim;
+      maxRes = std::max(maxRes, r.norm());
+      m.MoveVertex(v, m.P[v] + r / diag);  // Gauss-Seidel: row v satisfied exactly
+    }
+    st.iterations = it + 1;
+    st.maxResidual = maxRes;
+    if (maxRes <= tol) { st.converged = true; break; }
+  }
+  // residual after the last sweep
+  double maxRes = 0;
+  for (size_t i = 0; i < W.size(); ++i) maxRes = std::max(maxRes, (targets[i] - VertexLimit(m, W[i])).norm());
+  st.maxResidual = maxRes;
+  st.converged = maxRes <= tol;
+  return st;
+}
+
+InterpolationStats SolveInterpolationGlobal(QuadMesh& m, const std::vector<Vec3>& targets, double tol,
+                                            int maxIter) {
+  InterpolationStats st;
+  const int ns = m.NumVertexSlots();
+  std::vector<int> idx(ns, -1), W;
+  for (int v = 0; v < ns; ++v)
+    if (m.VertAlive(v)) { idx[v] = int(W.size()); W.push_back(v); }
+  const int n = int(W.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(size_t(n) * 12);
+  std::vector<std::pair<int, double>> mask;
+  for (int i = 0; i < n; ++i) {
+    if (!VertexLimitMask(m, W[i], mask)) { trip.emplace_back(i, i, 1.0); continue; }
+    for (auto& [j, wt] : mask) trip.emplace_back(i, idx[j], wt);
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> L(n, n);
+  L.setFromTriplets(trip.begin(), trip.end());
+  Eigen::BiCGSTAB<Eigen::SparseMatrix<double, Eigen::RowMajor>, Eigen::DiagonalPreconditioner<double>> solver;
+  solver.setTolerance(1e-12);
+  solver.setMaxIterations(maxIter);
+  solver.compute(L);
+  Eigen::MatrixXd B(n, 3), X0(n, 3);
+  for (int i = 0; i < n; ++i) {
+    B.row(i) = targets[W[i]].transpose();
+    X0.row(i) = m.P[W[i]].transpose();
+  }
+  bool ok = solver.info() == Eigen::Success;
+  if (ok) {
+    for (int c = 0; c < 3; ++c) {
+      Eigen::VectorXd x = solver.solveWithGuess(B.col(c), X0.col(c));
+      if (solver.info() != Eigen::Success || !x.allFinite()) { ok = false; break; }
+      X0.col(c) = x;
+      st.iterations = std::max(st.iterations, int(solver.iterations()));
+    }
+  }
+  if (ok)
+    for (int i = 0; i < n; ++i) m.MoveVertex(W[i], X0.row(i).transpose());
+  std::vector<Vec3> tW(n);
+  for (int i = 0; i < n; ++i) tW[i] = targets[W[i]];
+  InterpolationStats gs = SolveInterpolationLocal(m, W, tW, tol, ok ? 50 : maxIter);
+  st.iterations += gs.iterations;
+  st.maxResidual = gs.maxResidual;
+  st.converged = gs.converged;
+  return st;
+}
+
+}  // namespace quad
+}  // namespace vcgext

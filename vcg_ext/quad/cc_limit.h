@@ -1,0 +1,55 @@
+#pragma once
+/// \file cc_limit.h
+/// Closed-form local Catmull-Clark limit evaluation on an editable QuadMesh, cheap enough to be
+/// re-evaluated after every local operation of the simplification (Fitmaps §3.2–3.4), where
+/// rebuilding OpenSubdiv topology each step would be far too slow. Boundary rules are those of
+/// OpenSubdiv's VTX_BOUNDARY_EDGE_ONLY (boundary edges infinitely sharp, boundary curves cubic
+/// B-splines, valence-2 boundary corners smooth). Verified against OpenSubdiv in tests/quad.
+#include <utility>
+#include <vector>
+
+#include "vcg_ext/quad/quad_mesh.h"
+
+namespace vcgext {
+namespace quad {
+
+/// Limit-position mask of control vertex v as (vertex, weight) pairs (weights sum to 1):
+/// interior valence n: (n^2 v + 4 sum e_j + sum f_j) / (n (n+5)) (e_j edge neighbours, f_j the
+/// opposite corners of the incident faces); boundary: (v_prev + 4 v + v_next) / 6.
+/// Returns false for a dead or non-manifold vertex. Cost O(valence^2).
+bool VertexLimitMask(const QuadMesh& m, int v, std::vector<std::pair<int, double>>& mask);
+/// Limit position of control vertex v (its own position if the mask is unavailable).
+Vec3 VertexLimit(const QuadMesh& m, int v);
+/// Limit position and unit limit normal (orientation of the faces) of an interior vertex from the
+/// closed-form Catmull-Clark tangent masks (Halstead et al. 1993). Returns false for boundary or
+/// dead vertices (their normal is not needed by the method) or a degenerate tangent plane.
+bool VertexLimitFrame(const QuadMesh& m, int v, Vec3* pos, Vec3* normal);
+/// Limit point and unit normal at the centre (u,v) = (1/2,1/2) of the patch of face f: one local
+/// Catmull-Clark step turns the face point into a regular valence-4 vertex whose limit is
+/// (16 F + 4 sum E_k + sum V_k) / 36 (F the face point, E_k the edge points of the face's edges,
+/// V_k the vertex points of its corners). Returns false for a dead face or a degenerate normal.
+bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal);
+
+/// Outcome of an interpolation solve.
+struct InterpolationStats {
+  int iterations = 0;
+  double maxResidual = 0;  ///< max |limit(v) - target(v)| over the unknowns at exit (absolute)
+  bool converged = false;
+};
+
+/// Solves system (1) of the paper, L V_K = V_M, restricted to the unknowns `W` (live vertex
+/// indices; all other control points frozen): moves the control points of W so that their limit
+/// positions equal `targets` (one per entry of W). Gauss-Seidel sweeps on the limit masks (the
+/// paper's fixed-point iteration, in place), until max residual <= `tol` (absolute length) or
+/// `maxIter` sweeps. Used locally on a few dozen vertices after each operation (§3.4).
+/// Writes through QuadMesh::MoveVertex (journaled inside a transaction).
+InterpolationStats SolveInterpolationLocal(QuadMesh& m, const std::vector<int>& W,
+                                           const std::vector<Vec3>& targets, double tol, int maxIter = 100);
+/// Global version (§3.2): all live vertices are unknowns, targets indexed by vertex slot. Sparse
+/// BiCGSTAB (Eigen, diagonal preconditioner, relative tolerance 1e-12) on the assembled limit
+/// matrix; Gauss-Seidel polish to `tol` if needed. Cost: O(V) per iteration, ~tens of iterations.
+InterpolationStats SolveInterpolationGlobal(QuadMesh& m, const std::vector<Vec3>& targets, double tol,
+                                            int maxIter = 500);
+
+}  // namespace quad
+}  // namespace vcgext

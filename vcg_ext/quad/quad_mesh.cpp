@@ -1,0 +1,455 @@
+#include "vcg_ext/quad/quad_mesh.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+
+namespace vcgext {
+namespace quad {
+
+const char* ToString(OpResult r) {
+  switch (r) {
+    case OpResult::Ok: return "ok";
+    case OpResult::DeadElement: return "dead element";
+    case OpResult::BoundaryMerge: return "would merge two boundary vertices";
+    case OpResult::BoundaryEdge: return "boundary edge";
+    case OpResult::NotDoublet: return "not a doublet";
+    case OpResult::Degenerate: return "would create a degenerate face";
+    case OpResult::NonManifold: return "would break manifoldness (link condition)";
+    case OpResult::LowValence: return "would create a low-valence vertex";
+    case OpResult::NoImprovement: return "no valence improvement";
+  }
+  return "?";
+}
+
+QuadMesh::QuadMesh(const std::vector<Vec3>& V, const std::vector<Quad>& Fin) : P(V), F(Fin) {
+  faceAlive_.assign(F.size(), 1);
+  vertAlive_.assign(P.size(), 1);
+  vf_.assign(P.size(), {});
+  for (size_t f = 0; f < F.size(); ++f)
+    for (int k = 0; k < 4; ++k) {
+      auto& l = vf_[F[f][k]];
+      if (std::find(l.begin(), l.end(), int(f)) == l.end()) l.push_back(int(f));
+    }
+  nFaces_ = int(F.size());
+  nVerts_ = 0;
+  boundary_.assign(P.size(), 0);
+  std::vector<Wedge> w;
+  for (size_t v = 0; v < P.size(); ++v) {
+    if (vf_[v].empty()) { vertAlive_[v] = 0; continue; }  // unreferenced: not part of K
+    ++nVerts_;
+    bool open = false;
+    Fan(int(v), w, &open);
+    boundary_[v] = open ? 1 : 0;
+  }
+}
+
+int QuadMesh::CornerOf(int f, int v) const {
+  for (int k = 0; k < 4; ++k)
+    if (F[f][k] == v) return k;
+  return -1;
+}
+
+Vec3 QuadMesh::Centroid(int f) const {
+  return 0.25 * (P[F[f][0]] + P[F[f][1]] + P[F[f][2]] + P[F[f][3]]);
+}
+
+bool QuadMesh::Fan(int v, std::vector<Wedge>& out, bool* open) const {
+  out.clear();
+  const auto& l = vf_[v];
+  const int m = int(l.size());
+  if (open) *open = false;
+  if (m == 0) return false;
+  Wedge tmp[64];
+  std::vector<Wedge> big;
+  Wedge* w = tmp;
+  if (m > 64) { big.resize(m); w = big.data(); }
+  for (int i = 0; i < m; ++i) {
+    int f = l[i], k = CornerOf(f, v);
+    if (k < 0) return false;
+    w[i] = {f, k, F[f][(k + 1) & 3], F[f][(k + 2) & 3], F[f][(k + 3) & 3]};
+  }
+  // n's distinct, p's distinct (each directed edge once)
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j)
+      if (w[i].n == w[j].n || w[i].p == w[j].p) return false;
+  int start = -1, starts = 0;
+  for (int i = 0; i < m; ++i) {
+    bool matched = false;
+    for (int j = 0; j < m && !matched; ++j) matched = (w[j].n == w[i].p);
+    if (!matched) { start = i; ++starts; }
+  }
+  if (starts > 1) return false;
+  bool isOpen = starts == 1;
+  if (!isOpen) start = 0;
+  out.reserve(m);
+  int cur = start;
+  for (int step = 0; step < m; ++step) {
+    out.push_back(w[cur]);
+    int nxt = -1;
+    for (int j = 0; j < m; ++j)
+      if (w[j].p == w[cur].n) { nxt = j; break; }
+    if (step == m - 1) {
+      if (isOpen ? nxt != -1 : nxt != start) return false;
+    } else {
+      if (nxt < 0 || nxt == start) return false;
+      cur = nxt;
+    }
+  }
+  if (open) *open = isOpen;
+  return true;
+}
+
+int QuadMesh::AcrossEdge(int f, int k) const {
+  int a = F[f][k], b = F[f][(k + 1) & 3];
+  for (int g : vf_[a]) {
+    if (g == f) continue;
+    int kb = CornerOf(g, b);
+    if (kb >= 0 && F[g][(kb + 1) & 3] == a) return g;
+  }
+  return -1;
+}
+
+// ---------------------------------------------------------------------------- journal
+void QuadMesh::SaveFace(int f) { fj_.push_back({f, F[f], faceAlive_[f]}); }
+void QuadMesh::SaveVert(int v) { vj_.push_back({v, P[v], vertAlive_[v], vf_[v]}); }
+
+void QuadMesh::Begin() {
+  fj_.clear();
+  vj_.clear();
+  recording_ = true;
+}
+void QuadMesh::Commit() {
+  fj_.clear();
+  vj_.clear();
+  recording_ = false;
+}
+void QuadMesh::Rollback() {
+  RollbackTo(0, 0);
+  recording_ = false;
+}
+void QuadMesh::RollbackTo(size_t fmark, size_t vmark) {
+  while (fj_.size() > fmark) {
+    const FaceRec& r = fj_.back();
+    if (faceAlive_[r.f] != r.alive) nFaces_ += r.alive ? 1 : -1;
+    F[r.f] = r.q;
+    faceAlive_[r.f] = r.alive;
+    fj_.pop_back();
+  }
+  while (vj_.size() > vmark) {
+    VertRec& r = vj_.back();
+    if (vertAlive_[r.v] != r.alive) nVerts_ += r.alive ? 1 : -1;
+    P[r.v] = r.p;
+    vertAlive_[r.v] = r.alive;
+    vf_[r.v].swap(r.vf);
+    vj_.pop_back();
+  }
+}
+void QuadMesh::EndOp(size_t fmark, size_t vmark, bool ok) {
+  if (!ok) RollbackTo(fmark, vmark);
+  if (!recording_) { fj_.clear(); vj_.clear(); }
+}
+void QuadMesh::MoveVertex(int v, const Vec3& p) {
+  if (recording_) SaveVert(v);
+  P[v] = p;
+}
+
+void QuadMesh::RemoveVF(int v, int f) {
+  auto& l = vf_[v];
+  auto it = std::find(l.begin(), l.end(), f);
+  if (it != l.end()) { *it = l.back(); l.pop_back(); }
+}
+void QuadMesh::KillFace(int f) {
+  for (int k = 0; k < 4; ++k) RemoveVF(F[f][k], f);
+  faceAlive_[f] = 0;
+  --nFaces_;
+}
+
+OpResult QuadMesh::LocalCheck(const std::vector<int>& verts, bool allowDoublets) const {
+  std::vector<Wedge> w;
+  for (int v : verts) {
+    if (!vertAlive_[v]) continue;
+    if (vf_[v].empty()) return OpResult::LowValence;
+    for (int f : vf_[v]) {
+      const Quad& q = F[f];
+      if (q[0] == q[1] || q[0] == q[2] || q[0] == q[3] || q[1] == q[2] || q[1] == q[3] || q[2] == q[3])
+        return OpResult::Degenerate;
+    }
+    bool open = false;
+    if (!Fan(v, w, &open)) return OpResult::NonManifold;
+    if (open != (boundary_[v] != 0)) return OpResult::NonManifold;
+    if (!boundary_[v] && Valence(v) < (allowDoublets ? 2 : 3)) return OpResult::LowValence;
+  }
+  return OpResult::Ok;
+}
+
+// ---------------------------------------------------------------------------- operators
+OpResult QuadMesh::CollapseDiagonal(int f, int k, int* survivor) {
+  if (f < 0 || f >= int(F.size()) || !faceAlive_[f]) return OpResult::DeadElement;
+  k &= 1;
+  const int a = F[f][k], b = F[f][k + 1], c = F[f][k + 2], d = F[f][(k + 3) & 3];
+  if (boundary_[a] && boundary_[c]) return OpResult::BoundaryMerge;
+  int keep = a, rem = c;
+  if (boundary_[c]) std::swap(keep, rem);
+  const Vec3 pos = boundary_[keep] ? P[keep] : Vec3(0.5 * (P[a] + P[c]));
+  const size_t fm = fj_.size(), vm = vj_.size();
+  SaveFace(f);
+  SaveVert(a); SaveVert(b); SaveVert(c); SaveVert(d);
+  KillFace(f);
+  std::vector<int> moved = vf_[rem];
+  for (int g : moved) {
+    SaveFace(g);
+    for (int j = 0; j < 4; ++j)
+      if (F[g][j] == rem) F[g][j] = keep;
+    vf_[keep].push_back(g);
+  }
+  vf_[rem].clear();
+  vertAlive_[rem] = 0;
+  --nVerts_;
+  P[keep] = pos;
+  std::vector<int> check{keep, b, d};
+  for (int g : vf_[keep])
+    for (int j = 0; j < 4; ++j) check.push_back(F[g][j]);
+  OpResult r = LocalCheck(check, true);
+  EndOp(fm, vm, r == OpResult::Ok);
+  if (r == OpResult::Ok && survivor) *survivor = keep;
+  return r;
+}
+
+bool QuadMesh::SwapEnergyDelta(int f, int k, int variant, int* delta) const {
+  if (!faceAlive_[f]) return false;
+  int g = AcrossEdge(f, k);
+  if (g < 0) return false;
+  const int u = F[f][k], v = F[f][(k + 1) & 3], a = F[f][(k + 2) & 3], b = F[f][(k + 3) & 3];
+  const int kg = CornerOf(g, v);
+  const int c = F[g][(kg + 2) & 3], d = F[g][(kg + 3) & 3];
+  int verts[6] = {u, v, a, b, c, d};
+  int dv[6] = {-1, -1, 0, 0, 0, 0};
+  if (variant == 0) { dv[2] = 1; dv[4] = 1; } else { dv[3] = 1; dv[5] = 1; }
+  int before = 0, after = 0;
+  for (int i = 0; i < 6; ++i) {
+    bool dup = false;
+    for (int j = 0; j < i; ++j) dup |= verts[j] == verts[i];
+    if (dup) return false;  // degenerate hexagon: refuse
+    int val = Valence(verts[i]), reg = RegularValence(verts[i]);
+    before += std::abs(val - reg);
+    after += std::abs(val + dv[i] - reg);
+  }
+  *delta = after - before;
+  return true;
+}
+
+int QuadMesh::ValenceEnergy(int f, int g) const {
+  int verts[8], n = 0, e = 0;
+  for (int h : {f, g})
+    for (int j = 0; j < 4; ++j) {
+      int v = F[h][j];
+      if (std::find(verts, verts + n, v) == verts + n) {
+        verts[n++] = v;
+        e += std::abs(Valence(v) - RegularValence(v));
+      }
+    }
+  return e;
+}
+
+OpResult QuadMesh::SwapEdge(int f, int k, int variant) {
+  if (f < 0 || f >= int(F.size()) || !faceAlive_[f]) return OpResult::DeadElement;
+  int g = AcrossEdge(f, k);
+  if (g < 0) return OpResult::BoundaryEdge;
+  const int u = F[f][k], v = F[f][(k + 1) & 3], a = F[f][(k + 2) & 3], b = F[f][(k + 3) & 3];
+  const int kg = CornerOf(g, v);
+  const int c = F[g][(kg + 2) & 3], d = F[g][(kg + 3) & 3];
+  // hexagon (ccw): v a b u c d
+  Quad nf, ng;
+  if (variant == 0) { nf = {a, b, u, c}; ng = {c, d, v, a}; }
+  else { nf = {b, u, c, d}; ng = {d, v, a, b}; }
+  const size_t fm = fj_.size(), vm = vj_.size();
+  int hex[6] = {u, v, a, b, c, d};
+  SaveFace(f); SaveFace(g);
+  for (int x : hex) SaveVert(x);
+  for (int x : hex) { RemoveVF(x, f); RemoveVF(x, g); }
+  F[f] = nf;
+  F[g] = ng;
+  for (int j = 0; j < 4; ++j) {
+    auto& lf = vf_[nf[j]];
+    if (std::find(lf.begin(), lf.end(), f) == lf.end()) lf.push_back(f);
+    auto& lg = vf_[ng[j]];
+    if (std::find(lg.begin(), lg.end(), g) == lg.end()) lg.push_back(g);
+  }
+  std::vector<int> check(hex, hex + 6);
+  OpResult r = LocalCheck(check, false);
+  EndOp(fm, vm, r == OpResult::Ok);
+  return r;
+}
+
+OpResult QuadMesh::RemoveDoublet(int v) {
+  if (v < 0 || v >= int(P.size()) || !vertAlive_[v]) return OpResult::DeadElement;
+  if (boundary_[v] || vf_[v].size() != 2) return OpResult::NotDoublet;
+  int f1 = vf_[v][0], f2 = vf_[v][1];
+  int k1 = CornerOf(f1, v), k2 = CornerOf(f2, v);
+  int a = F[f1][(k1 + 1) & 3], x = F[f1][(k1 + 2) & 3], b = F[f1][(k1 + 3) & 3];
+  if (F[f2][(k2 + 1) & 3] != b || F[f2][(k2 + 3) & 3] != a) return OpResult::NonManifold;
+  int y = F[f2][(k2 + 2) & 3];
+  const size_t fm = fj_.size(), vm = vj_.size();
+  SaveFace(f1); SaveFace(f2);
+  SaveVert(v); SaveVert(a); SaveVert(b); SaveVert(x); SaveVert(y);
+  KillFace(f2);
+  RemoveVF(v, f1);
+  F[f1] = {a, x, b, y};
+  if (std::find(vf_[y].begin(), vf_[y].end(), f1) == vf_[y].end()) vf_[y].push_back(f1);
+  vertAlive_[v] = 0;
+  --nVerts_;
+  OpResult r = LocalCheck({a, b, x, y}, true);
+  EndOp(fm, vm, r == OpResult::Ok);
+  return r;
+}
+
+// ---------------------------------------------------------------------------- validity
+namespace {
+struct DSU {
+  std::vector<int> p;
+  explicit DSU(int n) : p(n) { std::iota(p.begin(), p.end(), 0); }
+  int Find(int x) { while (p[x] != x) x = p[x] = p[p[x]]; return x; }
+  void Unite(int a, int b) { p[Find(a)] = Find(b); }
+};
+}  // namespace
+
+QuadMesh::Invariants QuadMesh::ComputeInvariants() const {
+  Invariants inv;
+  const int nv = int(P.size());
+  DSU dsu(nv);
+  std::vector<std::uint64_t> he;
+  for (size_t f = 0; f < F.size(); ++f) {
+    if (!faceAlive_[f]) continue;
+    for (int k = 0; k < 4; ++k) {
+      dsu.Unite(F[f][k], F[f][(k + 1) & 3]);
+      he.push_back((std::uint64_t(F[f][k]) << 32) | std::uint64_t(std::uint32_t(F[f][(k + 1) & 3])));
+    }
+  }
+  std::sort(he.begin(), he.end());
+  std::vector<int> root(nv, -1), compV, compE, compF, compLoops;
+  auto compOf = [&](int v) {
+    int r = dsu.Find(v);
+    if (root[r] < 0) {
+      root[r] = int(compV.size());
+      compV.push_back(0); compE.push_back(0); compF.push_back(0); compLoops.push_back(0);
+    }
+    return root[r];
+  };
+  for (int v = 0; v < nv; ++v)
+    if (vertAlive_[v]) ++compV[compOf(v)];
+  for (size_t f = 0; f < F.size(); ++f)
+    if (faceAlive_[f]) ++compF[compOf(F[f][0])];
+  // edges: each half-edge counts 1/2 if twinned, 1 if boundary; boundary successor map
+  std::vector<int> bnext(nv, -1);
+  for (auto h : he) {
+    int a = int(h >> 32), b = int(h & 0xffffffffu);
+    std::uint64_t tw = (std::uint64_t(b) << 32) | std::uint64_t(std::uint32_t(a));
+    bool twin = std::binary_search(he.begin(), he.end(), tw);
+    if (!twin) { ++compE[compOf(a)]; bnext[b] = a; }  // boundary loop walked against the faces
+    else if (a < b) ++compE[compOf(a)];
+  }
+  std::vector<char> seen(nv, 0);
+  for (int v = 0; v < nv; ++v) {
+    if (bnext[v] < 0 || seen[v]) continue;
+    ++compLoops[compOf(v)];
+    int x = v;
+    while (x >= 0 && !seen[x]) { seen[x] = 1; x = bnext[x]; }
+  }
+  inv.components = int(compV.size());
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t c = 0; c < compV.size(); ++c) {
+    pairs.push_back({compV[c] - compE[c] + compF[c], compLoops[c]});
+    inv.boundaryLoops += compLoops[c];
+  }
+  std::sort(pairs.begin(), pairs.end());
+  for (auto& p : pairs) {
+    inv.eulerPerComponent.push_back(p.first);
+    inv.boundaryLoopsPerComponent.push_back(p.second);
+  }
+  return inv;
+}
+
+std::string QuadMesh::Check(const Invariants* ref) const {
+  auto S = [](auto x) { return std::to_string(x); };
+  int nf = 0, nv = 0;
+  for (size_t f = 0; f < F.size(); ++f) {
+    if (!faceAlive_[f]) continue;
+    ++nf;
+    const Quad& q = F[f];
+    for (int k = 0; k < 4; ++k) {
+      if (q[k] < 0 || q[k] >= int(P.size()) || !vertAlive_[q[k]])
+        return "face " + S(f) + " references a dead/invalid vertex";
+      for (int j = k + 1; j < 4; ++j)
+        if (q[k] == q[j]) return "face " + S(f) + " is degenerate (repeated vertex " + S(q[k]) + ")";
+      const auto& l = vf_[q[k]];
+      if (std::find(l.begin(), l.end(), int(f)) == l.end())
+        return "face " + S(f) + " missing from the face list of vertex " + S(q[k]);
+    }
+  }
+  if (nf != nFaces_) return "face count mismatch";
+  std::vector<std::uint64_t> he;
+  for (size_t f = 0; f < F.size(); ++f)
+    if (faceAlive_[f])
+      for (int k = 0; k < 4; ++k)
+        he.push_back((std::uint64_t(F[f][k]) << 32) | std::uint64_t(std::uint32_t(F[f][(k + 1) & 3])));
+  std::sort(he.begin(), he.end());
+  for (size_t i = 1; i < he.size(); ++i)
+    if (he[i] == he[i - 1])
+      return "half-edge " + S(int(he[i] >> 32)) + "->" + S(int(he[i] & 0xffffffffu)) +
+             " occurs twice (non-manifold or inconsistently oriented edge)";
+  std::vector<Wedge> w;
+  for (size_t v = 0; v < P.size(); ++v) {
+    if (!vertAlive_[v]) {
+      if (!vf_[v].empty()) return "dead vertex " + S(v) + " has faces";
+      continue;
+    }
+    ++nv;
+    if (vf_[v].empty()) return "live vertex " + S(v) + " has no face";
+    for (int f : vf_[v])
+      if (!faceAlive_[f] || CornerOf(f, int(v)) < 0) return "stale face list at vertex " + S(v);
+    bool open = false;
+    if (!Fan(int(v), w, &open)) return "non-manifold vertex " + S(v);
+    if (open != (boundary_[v] != 0)) return "boundary flag of vertex " + S(v) + " disagrees with its fan";
+    if (!open && Valence(int(v)) < 3)
+      return "interior vertex " + S(v) + " has valence " + S(Valence(int(v)));
+  }
+  if (nv != nVerts_) return "vertex count mismatch";
+  if (ref) {
+    Invariants cur = ComputeInvariants();
+    if (cur.components != ref->components)
+      return "component count changed: " + S(ref->components) + " -> " + S(cur.components);
+    if (cur.eulerPerComponent != ref->eulerPerComponent) return "Euler characteristic changed";
+    if (cur.boundaryLoopsPerComponent != ref->boundaryLoopsPerComponent || cur.boundaryLoops != ref->boundaryLoops)
+      return "boundary loops changed: " + S(ref->boundaryLoops) + " -> " + S(cur.boundaryLoops);
+  }
+  return "";
+}
+
+QuadData QuadMesh::ToQuadData(std::vector<int>* vmapOut) const {
+  QuadData q;
+  std::vector<int> vmap(P.size(), -1);
+  for (size_t v = 0; v < P.size(); ++v)
+    if (vertAlive_[v]) { vmap[v] = int(q.V.size()); q.V.push_back(P[v]); }
+  for (size_t f = 0; f < F.size(); ++f)
+    if (faceAlive_[f]) q.F.push_back({vmap[F[f][0]], vmap[F[f][1]], vmap[F[f][2]], vmap[F[f][3]]});
+  if (vmapOut) vmapOut->swap(vmap);
+  return q;
+}
+
+std::vector<int> QuadMesh::ValenceHistogram(int* irregular) const {
+  std::vector<int> h;
+  int irr = 0;
+  for (size_t v = 0; v < P.size(); ++v) {
+    if (!vertAlive_[v]) continue;
+    int val = Valence(int(v));
+    if (val >= int(h.size())) h.resize(val + 1, 0);
+    ++h[val];
+    if (val != RegularValence(int(v))) ++irr;
+  }
+  if (irregular) *irregular = irr;
+  return h;
+}
+
+}  // namespace quad
+}  // namespace vcgext

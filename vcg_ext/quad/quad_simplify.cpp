@@ -1,0 +1,470 @@
+#include "vcg_ext/quad/quad_simplify.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <queue>
+#include <unordered_map>
+
+#include "vcg_ext/core/progress.h"
+#include "vcg_ext/quad/cc_limit.h"
+#include "vcg_ext/quad/quad_mesh.h"
+
+namespace vcgext {
+
+using quad::OpResult;
+using quad::QuadMesh;
+
+void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts) {
+  std::unordered_map<std::uint64_t, int> und, dir;
+  und.reserve(m.F.size() * 2);
+  dir.reserve(m.F.size() * 4);
+  auto key = [](int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); };
+  for (const auto& f : m.F)
+    for (int k = 0; k < 3; ++k) {
+      int a = f[k], b = f[(k + 1) % 3];
+      ++und[key(std::min(a, b), std::max(a, b))];
+      ++dir[key(a, b)];
+    }
+  int e = 0;
+  for (auto& [k, c] : und) {
+    int a = int(k >> 32), b = int(k & 0xffffffffu);
+    if (c > 2 || dir[key(a, b)] > 1 || dir[key(b, a)] > 1) ++e;
+  }
+  // vertices: the fan of incident triangles must be one chain/cycle
+  Adjacency vfa = VertexFaceAdjacency(m.F, int(m.V.size()));
+  int nv = 0;
+  std::vector<std::pair<int, int>> w;  // (next, prev) per incident triangle
+  for (int v = 0; v < int(m.V.size()); ++v) {
+    w.clear();
+    for (const int* it = vfa.Begin(v); it != vfa.End(v); ++it) {
+      const Tri& t = m.F[*it];
+      int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+      w.push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+    }
+    const int n = int(w.size());
+    if (n == 0) continue;
+    bool bad = false;
+    int starts = 0, start = 0;
+    for (int i = 0; i < n && !bad; ++i) {
+      bool matched = false;
+      for (int j = 0; j < n; ++j) {
+        if (j != i && (w[j].first == w[i].first || w[j].second == w[i].second)) bad = true;
+        if (w[j].first == w[i].second) matched = true;
+      }
+      if (!matched) { ++starts; start = i; }
+    }
+    if (!bad && starts <= 1) {
+      int cur = start, count = 1;
+      while (count < n) {
+        int nxt = -1;
+        for (int j = 0; j < n; ++j)
+          if (w[j].second == w[cur].first) { nxt = j; break; }
+        if (nxt < 0 || nxt == start) break;
+        cur = nxt;
+        ++count;
+      }
+      bad = count != n;
+    } else {
+      bad = true;
+    }
+    if (bad) ++nv;
+  }
+  if (nmEdges) *nmEdges = e;
+  if (nmVerts) *nmVerts = nv;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+struct FaceInfo {
+  Vec3 c = Vec3::Zero();
+  double S = 0, M = 0;
+  bool ok = false;  ///< centre projects onto the input with an agreeing normal
+};
+
+class Simplifier {
+ public:
+  Simplifier(const TriData& in, const EmbreeScene& scene, const std::vector<double>& S, const std::vector<double>& M,
+             const QuadSimplifyParams& p, QuadSimplifyResult& res)
+      : in_(in), scene_(scene), S_(S), M_(M), p_(p), res_(res) {
+    diag_ = BBoxDiagonal(in.V);
+    maxDist_ = p.projectionPercent / 100.0 * diag_;
+    tol_ = p.solveTolPercent / 100.0 * diag_;
+    FN_ = FaceNormals(in);
+    // input boundary segments (half-edges without twin)
+    std::unordered_map<std::uint64_t, int> he;
+    auto key = [](int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); };
+    for (const auto& f : in.F)
+      for (int k = 0; k < 3; ++k) he[key(f[k], f[(k + 1) % 3])] = 1;
+    for (const auto& f : in.F)
+      for (int k = 0; k < 3; ++k)
+        if (!he.count(key(f[(k + 1) % 3], f[k]))) bseg_.push_back({f[k], f[(k + 1) % 3]});
+  }
+
+  QuadMesh K;
+
+  // projection phi along the line (either side) with fallback to nothing
+  bool Project(const Vec3& c, const Vec3& n, FaceInfo* fi, Vec3* point) const {
+    EmbreeScene::Hit h = scene_.IntersectLine(c, n, maxDist_);
+    if (!h.valid) return false;
+    const Tri& t = in_.F[h.face];
+    double w0 = 1.0 - h.u - h.v;
+    if (fi) {
+      fi->S = w0 * S_[t[0]] + h.u * S_[t[1]] + h.v * S_[t[2]];
+      fi->M = w0 * M_[t[0]] + h.u * M_[t[1]] + h.v * M_[t[2]];
+      fi->ok = FN_[h.face].dot(n) > 0;
+    }
+    if (point) *point = h.point;
+    return true;
+  }
+
+  FaceInfo EvalFace(int f) const {
+    FaceInfo fi;
+    Vec3 n;
+    if (!quad::FaceCentreLimit(K, f, &fi.c, &n)) return fi;
+    if (!Project(fi.c, n, &fi, nullptr)) {
+      // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
+      EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
+      if (h.valid) {
+        const Tri& t = in_.F[h.face];
+        double w0 = 1.0 - h.u - h.v;
+        fi.S = w0 * S_[t[0]] + h.u * S_[t[1]] + h.v * S_[t[2]];
+        fi.M = w0 * M_[t[0]] + h.u * M_[t[1]] + h.v * M_[t[2]];
+      }
+      fi.ok = false;
+    }
+    return fi;
+  }
+
+  Vec3 BoundaryTarget(const Vec3& p) const {
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 q = p;
+    for (auto& [a, b] : bseg_) {
+      const Vec3 &A = in_.V[a], &B = in_.V[b];
+      Vec3 d = B - A;
+      double l2 = d.squaredNorm();
+      double t = l2 > 0 ? std::clamp((p - A).dot(d) / l2, 0.0, 1.0) : 0.0;
+      Vec3 x = A + t * d;
+      double dd = (x - p).squaredNorm();
+      if (dd < best) { best = dd; q = x; }
+    }
+    return q;
+  }
+
+  Vec3 VertexTarget(int v) const {
+    if (K.IsBoundary(v)) return BoundaryTarget(quad::VertexLimit(K, v));
+    Vec3 pos, n;
+    if (!quad::VertexLimitFrame(K, v, &pos, &n)) return quad::VertexLimit(K, v);
+    Vec3 hit;
+    if (Project(pos, n, nullptr, &hit)) return hit;
+    EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
+    return h.valid ? h.point : pos;
+  }
+
+  double Cost(int f, int k, const FaceInfo& fi) const {
+    int a = K.F[f][k], c = K.F[f][k + 2];
+    if (K.IsBoundary(a) && K.IsBoundary(c)) return -1;
+    double d = (quad::VertexLimit(K, a) - quad::VertexLimit(K, c)).norm();
+    return d * (fi.S + 1e-9 / std::max(diag_, 1e-300));
+  }
+
+  void Push(int f) {
+    ++stamp_[f];
+    for (int k = 0; k < 2; ++k) {
+      double c = Cost(f, k, info_[f]);
+      if (c >= 0) heap_.push({c, f, k, stamp_[f]});
+    }
+  }
+
+  // M-fitmap test (§3.3): every patch the collapse enlarges keeps diameter <= F_M at its centre.
+  bool MTest(int f, int k) const {
+    int a = K.F[f][k], c = K.F[f][k + 2];
+    Vec3 la = quad::VertexLimit(K, a), lc = quad::VertexLimit(K, c);
+    Vec3 merged = K.IsBoundary(a) ? la : K.IsBoundary(c) ? lc : Vec3(0.5 * (la + lc));
+    for (int v : {a, c})
+      for (int g : K.VF(v)) {
+        if (g == f) continue;
+        Vec3 q[4];
+        for (int j = 0; j < 4; ++j) {
+          int x = K.F[g][j];
+          q[j] = (x == a || x == c) ? merged : quad::VertexLimit(K, x);
+        }
+        Vec3 ctr = 0.25 * (q[0] + q[1] + q[2] + q[3]);
+        double diam = 0;
+        for (auto& x : q) diam = std::max(diam, (x - ctr).norm());
+        if (diam > info_[g].M) return false;
+      }
+    return true;
+  }
+
+  void CollectRing(const std::vector<int>& seeds, std::vector<int>& out) {
+    ++vmark_;
+    out.clear();
+    auto add = [&](int v) {
+      if (v < 0 || !K.VertAlive(v) || vmarkOf_[v] == vmark_) return;
+      vmarkOf_[v] = vmark_;
+      out.push_back(v);
+    };
+    for (int s : seeds) add(s);
+    size_t n0 = out.size();
+    for (size_t i = 0; i < n0; ++i)
+      for (int g : K.VF(out[i]))
+        for (int j = 0; j < 4; ++j) add(K.F[g][j]);
+  }
+
+  void LocalFit(const std::vector<int>& W) {
+    std::vector<Vec3> newP(W.size()), targets(W.size());
+    std::vector<quad::Wedge> fan;
+    for (int round = 0; round < p_.fitRounds; ++round) {
+      for (size_t i = 0; i < W.size(); ++i) {
+        int v = W[i];
+        Vec3 avg = Vec3::Zero();
+        if (K.IsBoundary(v)) {
+          K.Fan(v, fan);
+          avg = 0.5 * (K.P[fan.front().p] + K.P[fan.back().n]);
+        } else {
+          for (int g : K.VF(v)) avg += K.Centroid(g);
+          avg /= double(K.VF(v).size());
+        }
+        newP[i] = (1.0 - p_.smoothingWeight) * K.P[v] + p_.smoothingWeight * avg;
+      }
+      for (size_t i = 0; i < W.size(); ++i) K.MoveVertex(W[i], newP[i]);
+      for (size_t i = 0; i < W.size(); ++i) targets[i] = VertexTarget(W[i]);
+      quad::SolveInterpolationLocal(K, W, targets, tol_, p_.localSolveIterations);
+    }
+  }
+
+  // One simplification step: collapse + doublets + swaps + local fit, or nothing.
+  // Returns 0 = done, 1 = topology refusal, 2 = flip refusal.
+  int Step(int f, int k) {
+    K.Begin();
+    int b = K.F[f][k + 1], d = K.F[f][(k + 3) & 3];
+    int s = -1;
+    OpResult r = K.CollapseDiagonal(f, k, &s);
+    if (r != OpResult::Ok) { K.Rollback(); return 1; }
+    std::vector<int> affected{s, b, d};
+    int doublets = 0, swaps = 0;
+    // immediate doublet removal (cascading)
+    std::vector<int> dq{b, d};
+    while (!dq.empty()) {
+      int v = dq.back();
+      dq.pop_back();
+      if (!K.VertAlive(v) || K.IsBoundary(v) || K.VF(v).size() != 2) continue;
+      int f1 = K.VF(v)[0], k1 = K.CornerOf(f1, v);
+      int na = K.F[f1][(k1 + 1) & 3], nb = K.F[f1][(k1 + 3) & 3];
+      if (K.RemoveDoublet(v) != OpResult::Ok) { K.Rollback(); return 1; }
+      ++doublets;
+      dq.push_back(na);
+      dq.push_back(nb);
+      affected.push_back(na);
+      affected.push_back(nb);
+    }
+    // edge swaps in the 1-ring of the collapsed element
+    if (p_.edgeSwaps && K.VertAlive(s)) {
+      for (int pass = 0; pass < 4; ++pass) {
+        bool any = false;
+        std::vector<int> faces = K.VF(s);
+        for (int g : faces) {
+          for (int j = 0; j < 4; ++j) {
+            if (!K.FaceAlive(g)) break;
+            int best = 0, bestVar = -1;
+            for (int var = 0; var < 2; ++var) {
+              int dlt;
+              if (K.SwapEnergyDelta(g, j, var, &dlt) && dlt < best) { best = dlt; bestVar = var; }
+            }
+            if (bestVar < 0) continue;
+            int h = K.AcrossEdge(g, j);
+            Quad before_g = K.F[g], before_h = K.F[h];
+            if (K.SwapEdge(g, j, bestVar) == OpResult::Ok) {
+              ++swaps;
+              any = true;
+              for (int x : before_g) affected.push_back(x);
+              for (int x : before_h) affected.push_back(x);
+            }
+          }
+        }
+        if (!any) break;
+      }
+    }
+    std::vector<int> W;
+    CollectRing(affected, W);
+    LocalFit(W);
+    // flip test on the faces around W
+    ++fmark_;
+    region_.clear();
+    for (int v : W)
+      for (int g : K.VF(v))
+        if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; region_.push_back(g); }
+    int badBefore = info_[f].ok ? 0 : 1, badAfter = 0;
+    newInfo_.resize(region_.size());
+    for (size_t i = 0; i < region_.size(); ++i) {
+      newInfo_[i] = EvalFace(region_[i]);
+      badBefore += info_[region_[i]].ok ? 0 : 1;
+      badAfter += newInfo_[i].ok ? 0 : 1;
+    }
+    if (badAfter > 0 && badAfter >= badBefore) { K.Rollback(); return 2; }
+    K.Commit();
+    for (size_t i = 0; i < region_.size(); ++i) info_[region_[i]] = newInfo_[i];
+    // re-queue faces whose cost may have changed
+    for (int g : region_) Push(g);
+    res_.collapses++;
+    res_.doublets += doublets;
+    res_.swaps += swaps;
+    return 0;
+  }
+
+  bool Run(vcg::CallBackPos* cb) {
+    const int nf = K.NumFaceSlots(), nv = K.NumVertexSlots();
+    info_.assign(nf, FaceInfo());
+    stamp_.assign(nf, 0);
+    fmarkOf_.assign(nf, 0);
+    vmarkOf_.assign(nv, 0);
+    std::vector<int> alive;
+    for (int f = 0; f < nf; ++f)
+      if (K.FaceAlive(f)) alive.push_back(f);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long i = 0; i < long(alive.size()); ++i) info_[alive[i]] = EvalFace(alive[i]);
+    for (int f : alive) Push(f);
+    QuadMesh::Invariants inv;
+    if (p_.validateEveryOperation) inv = K.ComputeInvariants();
+    Progress prog(cb);
+    const int initial = K.NumFaces();
+    while (!heap_.empty()) {
+      if (p_.targetPatches > 0 && K.NumFaces() <= p_.targetPatches) break;
+      Entry e = heap_.top();
+      heap_.pop();
+      if (!K.FaceAlive(e.f) || e.stamp != stamp_[e.f]) continue;
+      if (p_.useMFitmap && !MTest(e.f, e.k)) { ++res_.rejectedByM; continue; }
+      int r = Step(e.f, e.k);
+      if (r == 1) ++res_.rejectedTopology;
+      if (r == 2) ++res_.rejectedFlip;
+      if (p_.validateEveryOperation && r == 0) {
+        std::string err = K.Check(&inv);
+        if (!err.empty()) {
+          res_.error = "internal error: invalid mesh after collapse " + std::to_string(res_.collapses) + ": " + err;
+          return false;
+        }
+      }
+      prog(100.0 * (initial - K.NumFaces()) / std::max(1, initial), "Quad simplification");
+    }
+    return true;
+  }
+
+  int CountFlipped() const {
+    int bad = 0;
+    for (int f = 0; f < K.NumFaceSlots(); ++f)
+      if (K.FaceAlive(f) && !EvalFace(f).ok) ++bad;
+    return bad;
+  }
+
+ private:
+  struct Entry {
+    double cost;
+    int f, k;
+    unsigned stamp;
+    bool operator<(const Entry& o) const { return cost > o.cost; }  // min-heap
+  };
+  const TriData& in_;
+  const EmbreeScene& scene_;
+  const std::vector<double>& S_;
+  const std::vector<double>& M_;
+  const QuadSimplifyParams& p_;
+  QuadSimplifyResult& res_;
+  double diag_ = 1, maxDist_ = 1, tol_ = 1e-9;
+  std::vector<Vec3> FN_;
+  std::vector<std::pair<int, int>> bseg_;
+  std::vector<FaceInfo> info_, newInfo_;
+  std::vector<unsigned> stamp_;
+  std::vector<unsigned> fmarkOf_, vmarkOf_;
+  unsigned fmark_ = 0, vmark_ = 0;
+  std::vector<int> region_;
+  std::priority_queue<Entry> heap_;
+};
+
+}  // namespace
+
+QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                   const std::vector<double>& M, const QuadSimplifyParams& params,
+                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads) {
+  QuadSimplifyResult res;
+  const auto t0 = Clock::now();
+  const int nv = int(input.V.size());
+  if (input.V.empty() || input.F.empty()) { res.error = "the input mesh is empty"; return res; }
+  if (int(S.size()) != nv || int(M.size()) != nv) {
+    res.error = "fitmap size mismatch: " + std::to_string(S.size()) + " S and " + std::to_string(M.size()) +
+                " M values for " + std::to_string(nv) + " vertices (compute the Fitmaps first)";
+    return res;
+  }
+  int badS = 0;
+  for (int i = 0; i < nv; ++i)
+    if (!std::isfinite(S[i]) || !std::isfinite(M[i]) || S[i] < 0 || M[i] < 0) ++badS;
+  if (badS) { res.error = std::to_string(badS) + " vertices have invalid (negative or non-finite) Fitmap values"; return res; }
+  if (!scene.Ok()) { res.error = "ray-casting scene: " + scene.Error(); return res; }
+  if (&scene.Mesh() != &input && scene.Mesh().F.size() != input.F.size()) {
+    res.error = "the Embree scene was not built on the input mesh";
+    return res;
+  }
+  int nme = 0, nmv = 0;
+  CountNonManifold(input, &nme, &nmv);
+  if (nme || nmv) {
+    res.error = "the input is not manifold: " + std::to_string(nme) + " non-manifold edges and " +
+                std::to_string(nmv) + " non-manifold vertices (Filters > Cleaning and Repairing > "
+                "Repair non Manifold Edges/Vertices)";
+    return res;
+  }
+  Progress prog(cb);
+  prog(0, "Tri-to-quad", true);
+  // 1. initial quads (§3.2)
+  QuadData q0;
+  if (initialQuads && !initialQuads->empty()) {
+    q0.V = input.V;
+    q0.F = *initialQuads;
+    for (const Quad& q : q0.F)
+      for (int x : q)
+        if (x < 0 || x >= nv) { res.error = "initial quad references vertex " + std::to_string(x) + " out of range"; return res; }
+    res.triToQuadPath = quad::TriToQuadPath::AlreadyQuads;
+  } else {
+    quad::TriToQuadResult tq = quad::TriToQuad(input, params.triToQuad);
+    if (!tq.error.empty()) { res.error = "tri-to-quad: " + tq.error; return res; }
+    q0 = std::move(tq.quads);
+    res.triToQuadPath = tq.path;
+  }
+  res.secondsTriToQuad = Since(t0);
+  // 2. interpolating control points (§3.2)
+  auto t1 = Clock::now();
+  QuadSimplifyResult& r = res;
+  Simplifier sim(input, scene, S, M, params, r);
+  sim.K = QuadMesh(q0.V, q0.F);
+  {
+    std::string err = sim.K.Check();
+    if (!err.empty()) { res.error = "initial quad mesh invalid: " + err; return res; }
+  }
+  res.initialPatches = sim.K.NumFaces();
+  const double tol = params.solveTolPercent / 100.0 * BBoxDiagonal(input.V);
+  quad::InterpolationStats gs = quad::SolveInterpolationGlobal(sim.K, q0.V, tol);
+  res.initialSolveResidual = gs.maxResidual;
+  res.initialSolveIterations = gs.iterations;
+  res.secondsInitialFit = Since(t1);
+  prog(10, "Quad simplification", true);
+  // 3-4. simplification with local fit (§3.3-3.4)
+  auto t2 = Clock::now();
+  if (sim.K.NumFaces() <= std::max(6, params.targetPatches)) {
+    res.message = "mesh too small to simplify (" + std::to_string(sim.K.NumFaces()) + " quads): returning its pure-quad mesh";
+  } else {
+    if (!sim.Run(cb)) return res;
+    if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
+  }
+  res.secondsSimplify = Since(t2);
+  res.flippedPatches = sim.CountFlipped();
+  res.quads = sim.K.ToQuadData();
+  res.patches = sim.K.NumFaces();
+  res.valenceHistogram = sim.K.ValenceHistogram(&res.irregularVertices);
+  res.secondsTotal = Since(t0);
+  return res;
+}
+
+}  // namespace vcgext

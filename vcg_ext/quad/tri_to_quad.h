@@ -1,0 +1,53 @@
+#pragma once
+/// \file tri_to_quad.h
+/// Triangle mesh -> pure-quad mesh on the same vertices (Fitmaps §3.2, after Tarini et al.,
+/// "Practical quad mesh simplification", 2010): triangles are paired across shared edges.
+///  1. greedy pairing by quad quality (best first: corner angles near 90 degrees, planar);
+///  2. augmenting alternating paths to pair the leftovers (the dual of a closed triangle mesh is
+///     a bridgeless cubic graph, which has a perfect matching by Petersen's theorem);
+///  3. an odd number of triangles (only possible with boundaries) is made even first by
+///     splitting one boundary triangle at the midpoint of its boundary edge (one new vertex);
+///  4. fallback when pairing still leaves triangles: every paired quad is split into 4 quads and
+///     every triangle into 3 (new edge-midpoint and face-centre vertices): always pure quads.
+#include <string>
+#include <vector>
+
+#include "vcg_ext/core/indexed_mesh.h"
+
+namespace vcgext {
+namespace quad {
+
+enum class TriToQuadPath {
+  AlreadyQuads,       ///< the caller's quads were used as they are
+  Pairing,            ///< every triangle paired (greedy + augmenting paths), same vertices
+  PairingBoundarySplit,  ///< as Pairing after splitting one boundary triangle (odd count)
+  SplitAll,           ///< pairing failed for some triangles: all faces split (more vertices)
+};
+const char* ToString(TriToQuadPath p);
+
+struct TriToQuadParams {
+  bool allowSplitFallback = true;  ///< false: fail (error) instead of splitting everything
+  int maxAugmentPasses = 8;        ///< passes of augmenting-path search over the unmatched triangles
+};
+
+struct TriToQuadResult {
+  std::string error;
+  QuadData quads;            ///< V starts with the input vertices (new ones appended)
+  TriToQuadPath path = TriToQuadPath::Pairing;
+  int greedyPairs = 0;       ///< pairs made by the greedy pass
+  int augmentedPairs = 0;    ///< pairs added by augmenting paths
+  int unpairedTriangles = 0; ///< triangles left after pairing (0 unless SplitAll)
+  int addedVertices = 0;
+};
+
+/// Converts `m` into pure quads. Preconditions: m is manifold and consistently oriented (checked
+/// by the caller; non-manifold edges are simply not paired across). Cost: O(F log F) + the
+/// augmenting searches (bounded BFS per unmatched triangle).
+TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p = {});
+
+/// Splits every triangle into 3 quads and every quad into 4 (midpoints + centres). Used as the
+/// fallback; exposed for tests.
+QuadData SplitToQuads(const std::vector<Vec3>& V, const std::vector<Tri>& tris, const std::vector<Quad>& quads);
+
+}  // namespace quad
+}  // namespace vcgext
