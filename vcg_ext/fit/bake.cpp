@@ -10,6 +10,8 @@
 #include <unordered_map>
 
 #include "vcg_ext/core/progress.h"
+#include <Eigen/Geometry>
+
 #include "vcg_ext/fit/fit_internal.h"
 
 namespace vcgext {
@@ -96,12 +98,7 @@ LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3
   t.normal.resize(nV);
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < nV; ++v) {
-    Vec3 P, Du, Dv;
-    ls.Evaluate(t.face[v], t.uv[v][0], t.uv[v][1], ctrl, &P, &Du, &Dv);
-    Vec3 n = Du.cross(Dv);
-    double l = n.norm();
-    t.mesh.V[v] = P;
-    t.normal[v] = l > 0 ? Vec3(n / l) : Vec3::Zero();
+    t.mesh.V[v] = fitdetail::LimitPointNormal(ls, ctrl, t.face[v], t.uv[v][0], t.uv[v][1], &t.normal[v]);
   }
   return t;
 }
@@ -145,14 +142,11 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
     const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
     for (int j = 0; j < R; ++j)
       for (int i = 0; i < R; ++i) {
-        Vec3 P, Du, Dv;
-        ls.Evaluate(f, double(i) / (R - 1), double(j) / (R - 1), ctrl, &P, &Du, &Dv);
-        Vec3 n = Du.cross(Dv);
-        double l = n.norm();
-        n = l > 0 ? Vec3(n / l) : Vec3::Zero();
+        Vec3 n;
+        const Vec3 P = fitdetail::LimitPointNormal(ls, ctrl, f, double(i) / (R - 1), double(j) / (R - 1), &n);
         double d = 0;
         EmbreeScene::Hit h;
-        if (l > 0) h = scene.IntersectLine(P, n, maxDist);
+        if (n.squaredNorm() > 0) h = scene.IntersectLine(P, n, maxDist);
         if (h.valid) {
           d = h.t;
         } else {

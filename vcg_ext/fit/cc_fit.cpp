@@ -8,6 +8,8 @@
 #include <cmath>
 
 #include "vcg_ext/core/progress.h"
+#include <Eigen/Geometry>
+
 #include "vcg_ext/fit/fit_internal.h"
 #include "vcg_ext/subdiv/limit_surface.h"
 
@@ -36,6 +38,22 @@ double PatchArea(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, i
       a += 0.5 * ((p10 - p00).cross(p11 - p00).norm() + (p11 - p00).cross(p01 - p00).norm());
     }
   return a;
+}
+
+Vec3 LimitPointNormal(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, double u, double v, Vec3* n) {
+  Vec3 P, Du, Dv;
+  ls.Evaluate(f, u, v, ctrl, &P, &Du, &Dv);
+  Vec3 c = Du.cross(Dv);
+  const double scale = Du.squaredNorm() + Dv.squaredNorm();
+  if (!(c.norm() > 1e-12 * scale)) {
+    const double e = 1e-4;
+    Vec3 Q;
+    ls.Evaluate(f, std::clamp(u, e, 1 - e), std::clamp(v, e, 1 - e), ctrl, &Q, &Du, &Dv);
+    c = Du.cross(Dv);
+  }
+  const double l = c.norm();
+  *n = l > 0 ? Vec3(c / l) : Vec3::Zero();
+  return P;
 }
 
 bool Project(const EmbreeScene& scene, const Vec3& p, const Vec3& n, double maxDist, Vec3& target, bool* rayHit) {

@@ -15,5 +15,9 @@ double PatchArea(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, i
 /// exists; `rayHit` says whether the ray found it.
 bool Project(const EmbreeScene& scene, const Vec3& p, const Vec3& n, double maxDist, Vec3& target, bool* rayHit);
 
+/// Limit point and unit normal at (f,u,v). Where the tangents are degenerate (e.g. smooth
+/// valence-2 boundary corners) the normal is taken 1e-4 inside the patch; zero if still degenerate.
+Vec3 LimitPointNormal(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, double u, double v, Vec3* n);
+
 }  // namespace fitdetail
 }  // namespace vcgext

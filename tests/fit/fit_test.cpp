@@ -1,0 +1,377 @@
+// Tests of the final Catmull-Clark fit and bake (issue 4): recovery of a known limit surface,
+// planarity, displaced error vs texture resolution, atlas/UV layout, report JSON, bad inputs.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "test_support.h"
+#include "vcg_ext/fit/bake.h"
+#include "vcg_ext/fit/cc_fit.h"
+#include "vcg_ext/fit/fit_io.h"
+
+using namespace vcgext;
+
+namespace {
+
+// Quad "cube-sphere": each cube face split s×s, vertices blended towards the sphere and
+// radially perturbed. Valence-3 vertices at the 8 cube corners.
+QuadData CubeSphere(int s, double noise, unsigned seed) {
+  QuadData q;
+  std::map<std::array<int, 3>, int> id;
+  auto vert = [&](std::array<int, 3> c) {
+    auto it = id.find(c);
+    if (it != id.end()) return it->second;
+    Vec3 p(c[0] - s / 2.0, c[1] - s / 2.0, c[2] - s / 2.0);
+    p /= s;
+    p = 0.5 * p + 0.5 * 0.5 * p.normalized();
+    q.V.push_back(p);
+    id[c] = int(q.V.size()) - 1;
+    return int(q.V.size()) - 1;
+  };
+  struct Side { std::array<int, 3> o, u, v; };
+  const Side sides[6] = {{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}, {{0, 0, s}, {1, 0, 0}, {0, 1, 0}},
+                         {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}}, {{0, s, 0}, {0, 0, 1}, {1, 0, 0}},
+                         {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}}, {{s, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  for (const auto& sd : sides)
+    for (int j = 0; j < s; ++j)
+      for (int i = 0; i < s; ++i) {
+        auto at = [&](int a, int b) {
+          return std::array<int, 3>{sd.o[0] + a * sd.u[0] + b * sd.v[0], sd.o[1] + a * sd.u[1] + b * sd.v[1],
+                                    sd.o[2] + a * sd.u[2] + b * sd.v[2]};
+        };
+        q.F.push_back({vert(at(i, j)), vert(at(i + 1, j)), vert(at(i + 1, j + 1)), vert(at(i, j + 1))});
+      }
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-noise, noise);
+  for (auto& p : q.V) p *= 1.0 + U(rng);
+  return q;
+}
+
+// Minimal JSON reader: objects, arrays, numbers, strings, null/true/false. Enough to parse our
+// report back; fails the test on malformed input.
+struct Json {
+  enum Type { Null, Num, Str, Arr, Obj, Bool } type = Null;
+  double num = 0;
+  std::string str;
+  std::vector<Json> arr;
+  std::map<std::string, Json> obj;
+};
+struct JsonParser {
+  const std::string& s;
+  size_t i = 0;
+  bool ok = true;
+  void Ws() { while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i; }
+  bool Eat(char c) { Ws(); if (i < s.size() && s[i] == c) { ++i; return true; } return false; }
+  std::string String() {
+    std::string o;
+    if (!Eat('"')) { ok = false; return o; }
+    while (i < s.size() && s[i] != '"') {
+      if (s[i] == '\\') { ++i; if (i < s.size() && s[i] == 'u') { i += 5; o += '?'; continue; } }
+      if (i < s.size()) o += s[i++];
+    }
+    if (i >= s.size()) ok = false; else ++i;
+    return o;
+  }
+  Json Value() {
+    Json j;
+    Ws();
+    if (i >= s.size()) { ok = false; return j; }
+    char c = s[i];
+    if (c == '{') {
+      ++i; j.type = Json::Obj;
+      if (Eat('}')) return j;
+      do { std::string k = String(); if (!Eat(':')) { ok = false; return j; } j.obj[k] = Value(); } while (ok && Eat(','));
+      if (!Eat('}')) ok = false;
+    } else if (c == '[') {
+      ++i; j.type = Json::Arr;
+      if (Eat(']')) return j;
+      do { j.arr.push_back(Value()); } while (ok && Eat(','));
+      if (!Eat(']')) ok = false;
+    } else if (c == '"') {
+      j.type = Json::Str; j.str = String();
+    } else if (s.compare(i, 4, "null") == 0) { i += 4; }
+    else if (s.compare(i, 4, "true") == 0) { i += 4; j.type = Json::Bool; j.num = 1; }
+    else if (s.compare(i, 5, "false") == 0) { i += 5; j.type = Json::Bool; }
+    else {
+      size_t end = i;
+      while (end < s.size() && (std::isdigit(static_cast<unsigned char>(s[end])) || std::strchr("+-.eE", s[end]))) ++end;
+      if (end == i) { ok = false; return j; }
+      j.type = Json::Num; j.num = std::stod(s.substr(i, end - i)); i = end;
+    }
+    return j;
+  }
+};
+
+// A bumpy sphere as reference (dense), radius ~0.5.
+TriData BumpySphere(int level, double amp) {
+  TriData t = testsupport::Icosphere(level, 0.5);
+  for (auto& p : t.V) {
+    Vec3 n = p.normalized();
+    p = n * (0.5 + amp * std::sin(9 * n[0]) * std::sin(7 * n[1]) * std::cos(5 * n[2]));
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST(CCFit, RecoversAKnownLimitSurface) {
+  // Ground truth: a perturbed cube-sphere control net; reference = dense tessellation of its limit.
+  QuadData truth = CubeSphere(3, 0.08, 1);
+  LimitSurface ls = LimitSurface::FromQuads(truth);
+  ASSERT_TRUE(ls.Ok());
+  LimitTessellation dense = TessellateLimit(ls, truth.V, 24);
+  const TriData& ref = dense.mesh;
+  EmbreeScene scene(ref);
+  ASSERT_TRUE(scene.Ok());
+  const double diag = BBoxDiagonal(ref.V);
+  // Baseline: chord error of the reference itself, measured at cell centres of a finer grid of
+  // the true limit (the fit cannot beat the piecewise-linear reference by much).
+  LimitTessellation fine = TessellateLimit(ls, truth.V, 48);
+  double chord = 0;
+  for (const auto& p : fine.mesh.V) chord = std::max(chord, (scene.ClosestPoint(p).point - p).norm());
+  // Start from a different perturbation of the same connectivity.
+  QuadData start = truth;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-0.03, 0.03);
+  for (auto& p : start.V) p += Vec3(U(rng), U(rng), U(rng));
+  FitParams fp;
+  fp.maxIterations = 20;
+  fp.minImprovement = 1e-4;
+  FitResult r = FitCatmullClark(start, ref, scene, fp);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_EQ(r.patches, 54);
+  EXPECT_EQ(r.irregularVertices, 8);
+  EXPECT_EQ(r.degeneratePatches, 0);
+  ASSERT_GE(r.rmsPerIteration.size(), 2u);
+  EXPECT_LT(r.rmsPerIteration.back(), 0.1 * r.rmsPerIteration.front());
+  LimitSurface lf = LimitSurface::FromQuads(r.control);
+  LimitTessellation fitted = TessellateLimit(lf, r.control.V, 16);
+  auto e = ReferenceToSurfaceError(ref, fitted.mesh);
+  double start0 = ReferenceToSurfaceError(ref, TessellateLimit(LimitSurface::FromQuads(start), start.V, 16).mesh).first;
+  EXPECT_LT(e.first, 2 * chord + 1e-6 * diag) << "rms " << e.first << " chord " << chord << " start " << start0;
+  EXPECT_LT(e.first, 0.05 * start0);
+  // Control points themselves are not compared: normal projection leaves them free to slide
+  // tangentially (the limit surface, not the net, is what the fit determines).
+}
+
+TEST(CCFit, PlanarGridStaysPlanar) {
+  QuadData q;
+  const int n = 7;
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> U(-0.04, 0.04);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) q.V.emplace_back(0.2 + 0.6 * i / (n - 1) + U(rng), 0.2 + 0.6 * j / (n - 1) + U(rng), 0.0);
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) q.F.push_back({j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i});
+  for (auto& p : q.V) p[2] = 0.01;  // start slightly off the plane
+  TriData ref = testsupport::PlaneGrid(40, 40, 1.0);
+  EmbreeScene scene(ref);
+  FitResult r = FitCatmullClark(q, ref, scene);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  for (const auto& p : r.control.V) EXPECT_NEAR(p[2], 0.0, 1e-9);
+  LimitSurface ls = LimitSurface::FromQuads(r.control);
+  LimitTessellation t = TessellateLimit(ls, r.control.V, 4);
+  for (const auto& p : t.mesh.V) EXPECT_NEAR(p[2], 0.0, 1e-9);
+  for (const auto& nrm : t.normal) EXPECT_NEAR(std::abs(nrm[2]), 1.0, 1e-9);
+}
+
+TEST(CCFit, TessellationIsWeldedAndClosed) {
+  QuadData q = CubeSphere(2, 0.0, 1);
+  LimitSurface ls = LimitSurface::FromQuads(q);
+  const int N = 5;
+  LimitTessellation t = TessellateLimit(ls, q.V, N);
+  const int F = int(q.F.size()), V = int(q.V.size());
+  // Closed genus 0 and welded: V - E + F = 2 with E = 3T/2.
+  EXPECT_EQ(int(t.mesh.F.size()), 2 * F * N * N);
+  EXPECT_EQ(int(t.mesh.V.size()) - 3 * int(t.mesh.F.size()) / 2 + int(t.mesh.F.size()), 2);
+  (void)V;
+  // Every vertex sits where its (face,u,v) says.
+  for (size_t v = 0; v < t.mesh.V.size(); v += 7) {
+    Vec3 P;
+    ls.Evaluate(t.face[v], t.uv[v][0], t.uv[v][1], q.V, &P);
+    EXPECT_NEAR((P - t.mesh.V[v]).norm(), 0.0, 1e-12);
+  }
+  // Outward normals (sphere-like): n · p > 0.
+  for (size_t v = 0; v < t.mesh.V.size(); ++v) EXPECT_GT(t.normal[v].dot(t.mesh.V[v]), 0.0);
+}
+
+TEST(CCFit, DisplacedErrorFallsWithTextureResolution) {
+  TriData ref = BumpySphere(5, 0.02);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(3, 0.0, 1);
+  double prev = 1e30, first = 0;
+  for (int R : {3, 5, 9, 17}) {
+    FitBakeParams bp;
+    bp.textureResolution = R;
+    FitBakeResult r = FitAndBake(q, ref, scene, bp);
+    ASSERT_TRUE(r.error.empty()) << r.error;
+    if (R == 3) first = r.metrics.rmsDisplacedPermille;
+    EXPECT_LT(r.metrics.rmsDisplacedPermille, prev) << "R " << R;
+    // With >= 8 segments per patch the displaced surface beats the (densely measured) limit.
+    if (R >= 9) {
+      EXPECT_LT(r.metrics.rmsDisplacedPermille, r.metrics.rmsLimitPermille) << "R " << R;
+    }
+    prev = r.metrics.rmsDisplacedPermille;
+    EXPECT_LT(r.metrics.unprojectablePct, 1.0);
+  }
+  EXPECT_LT(prev, first / 4);
+}
+
+TEST(CCFit, EveryTileMapsToItsPatch) {
+  TriData ref = BumpySphere(4, 0.02);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(3, 0.0, 2);
+  LimitSurface ls = LimitSurface::FromQuads(q);
+  const int R = 6;
+  DisplacementAtlas a = BakeDisplacement(ls, q.V, ref, scene, R, 0.1 * BBoxDiagonal(ref.V), true);
+  ASSERT_EQ(int(a.wedgeUV.size()), ls.NumFaces());
+  ASSERT_GE(a.cols * a.rows, ls.NumFaces());
+  const int cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
+  std::vector<int> owner(size_t(a.width) * a.height, -1);
+  for (int f = 0; f < ls.NumFaces(); ++f) {
+    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
+    for (int c = 0; c < 4; ++c) {
+      // UV -> continuous pixel coordinates: texel centres of the tile's corner texels.
+      double x = a.wedgeUV[f][c][0] * a.width - 0.5, y = (1.0 - a.wedgeUV[f][c][1]) * a.height - 0.5;
+      EXPECT_NEAR(x, x0 + cu[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
+      EXPECT_NEAR(y, y0 + cv[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
+    }
+    // The UV quad covers exactly the tile's texels and no other face's.
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i) {
+        int& o = owner[size_t(y0 + j) * a.width + x0 + i];
+        EXPECT_EQ(o, -1);
+        o = f;
+      }
+    // Texel (i,j) holds the displacement at (u,v) = (i,j)/(R-1): check one texel by ray cast.
+    Vec3 P, Du, Dv;
+    ls.Evaluate(f, 2.0 / (R - 1), 3.0 / (R - 1), q.V, &P, &Du, &Dv);
+    auto h = scene.IntersectLine(P, Du.cross(Dv).normalized(), 1.0);
+    ASSERT_TRUE(h.valid);
+    EXPECT_NEAR(a.Decoded(f, 2, 3), h.t, 2 * a.scale + 1e-6);
+  }
+  // PNG round trip.
+  const std::string png = testsupport::ScratchDir() + "/disp.png";
+  ASSERT_EQ(WritePngGray16(png, a.width, a.height, a.q16), "");
+  int w = 0, hgt = 0;
+  std::vector<std::uint16_t> back;
+  ASSERT_EQ(ReadPngGray16(png, w, hgt, back), "");
+  EXPECT_EQ(w, a.width);
+  EXPECT_EQ(hgt, a.height);
+  EXPECT_TRUE(back == a.q16);
+  EXPECT_EQ(WritePngRgb8(testsupport::ScratchDir() + "/normal.png", a.width, a.height, a.normalRGB), "");
+}
+
+TEST(CCFit, ReportJsonParsesAndAgrees) {
+  TriData ref = BumpySphere(4, 0.02);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(2, 0.0, 1);
+  FitBakeResult r = FitAndBake(q, ref, scene);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  const std::string path = testsupport::ScratchDir() + "/report.json";
+  ASSERT_EQ(WriteReportJson(path, r, {{"fitmaps", 1.5}}), "");
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  JsonParser jp{text};
+  Json j = jp.Value();
+  jp.Ws();
+  ASSERT_TRUE(jp.ok && jp.i == text.size()) << text;
+  ASSERT_EQ(j.type, Json::Obj);
+  auto num = [&](const char* k) {
+    EXPECT_TRUE(j.obj.count(k)) << k;
+    return j.obj[k].num;
+  };
+  EXPECT_EQ(num("patches"), r.fit.patches);
+  EXPECT_EQ(num("irregular_vertices"), r.fit.irregularVertices);
+  EXPECT_NEAR(num("unprojectable_pct"), r.metrics.unprojectablePct, 1e-8);
+  EXPECT_NEAR(num("rms_limit_permille"), r.metrics.rmsLimitPermille, 1e-8);
+  EXPECT_NEAR(num("max_limit_permille"), r.metrics.maxLimitPermille, 1e-8);
+  EXPECT_NEAR(num("rms_displaced_permille"), r.metrics.rmsDisplacedPermille, 1e-8);
+  EXPECT_NEAR(num("max_displaced_permille"), r.metrics.maxDisplacedPermille, 1e-8);
+  EXPECT_NEAR(num("peak_memory_mb"), r.peakMemoryMb, 1e-6);
+  ASSERT_EQ(j.obj["time_s"].type, Json::Obj);
+  auto& ts = j.obj["time_s"].obj;
+  EXPECT_NEAR(ts["total"].num, r.totalSeconds + 1.5, 1e-6);
+  EXPECT_EQ(ts["fitmaps"].num, 1.5);
+  for (const auto& t : r.times) EXPECT_NEAR(ts[t.first].num, t.second, 1e-8) << t.first;
+  EXPECT_EQ(j.obj["rms_per_iteration"].arr.size(), r.fit.rmsPerIteration.size());
+  // The log mentions the same figures.
+  EXPECT_NE(FormatReport(r).find("patches " + std::to_string(r.fit.patches)), std::string::npos);
+
+  // Quad OBJ: real quads with per-wedge vt, and an .mtl.
+  const std::string obj = testsupport::ScratchDir() + "/control.obj";
+  ASSERT_EQ(WriteQuadObj(obj, r.fit.control, r.atlas.wedgeUV, "displacement.png"), "");
+  std::ifstream oi(obj);
+  std::string line;
+  int nv = 0, nvt = 0, nf = 0;
+  bool mtllib = false;
+  while (std::getline(oi, line)) {
+    if (line.rfind("v ", 0) == 0) ++nv;
+    if (line.rfind("vt ", 0) == 0) ++nvt;
+    if (line.rfind("mtllib control.mtl", 0) == 0) mtllib = true;
+    if (line.rfind("f ", 0) == 0) {
+      ++nf;
+      std::istringstream ls(line.substr(2));
+      std::string tok;
+      int corners = 0;
+      while (ls >> tok) { ++corners; EXPECT_NE(tok.find('/'), std::string::npos); }
+      EXPECT_EQ(corners, 4);
+    }
+  }
+  EXPECT_EQ(nv, int(r.fit.control.V.size()));
+  EXPECT_EQ(nvt, 4 * int(r.fit.control.F.size()));
+  EXPECT_EQ(nf, int(r.fit.control.F.size()));
+  EXPECT_TRUE(mtllib);
+  EXPECT_TRUE(std::ifstream(testsupport::ScratchDir() + "/control.mtl").good());
+  EXPECT_EQ(WriteAtlasJson(testsupport::ScratchDir() + "/displacement.json", r.atlas, "displacement.png"), "");
+  EXPECT_EQ(WritePlyWithQuality(testsupport::ScratchDir() + "/limit.ply", r.limit.mesh, &r.limit.quality), "");
+}
+
+TEST(CCFit, BadInputsGiveErrors) {
+  TriData ref = BumpySphere(3, 0.0);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(2, 0.0, 1);
+  // Empty reference.
+  TriData empty;
+  EmbreeScene es(empty);
+  FitResult r = FitCatmullClark(q, empty, es);
+  EXPECT_NE(r.error.find("reference mesh is empty"), std::string::npos) << r.error;
+  // Non-manifold control mesh: a third quad on an existing edge.
+  QuadData nm = q;
+  int a = nm.F[0][0], b = nm.F[0][1];
+  nm.V.push_back(Vec3(0, 0, 2));
+  nm.V.push_back(Vec3(0, 1, 2));
+  nm.F.push_back({a, b, int(nm.V.size()) - 1, int(nm.V.size()) - 2});
+  r = FitCatmullClark(nm, ref, scene);
+  EXPECT_NE(r.error.find("non-manifold"), std::string::npos) << r.error;
+  // Index out of range.
+  QuadData bad = q;
+  bad.F[3][2] = 1000;
+  r = FitCatmullClark(bad, ref, scene);
+  EXPECT_NE(r.error.find("out of range"), std::string::npos) << r.error;
+  // Control mesh far away from the reference.
+  QuadData far = q;
+  for (auto& p : far.V) p += Vec3(10, 0, 0);
+  r = FitCatmullClark(far, ref, scene);
+  EXPECT_NE(r.error.find("far from the reference"), std::string::npos) << r.error;
+  FitBakeResult br = FitAndBake(far, ref, scene);
+  EXPECT_FALSE(br.error.empty());
+  EXPECT_NE(ReportJson(br).find("\"error\""), std::string::npos);
+  // Degenerate patch: collapse one quad's vertices onto one point: reported, no crash.
+  QuadData deg = q;
+  Vec3 c = deg.V[deg.F[5][0]];
+  for (int k = 0; k < 4; ++k) deg.V[deg.F[5][k]] = c;
+  r = FitCatmullClark(deg, ref, scene);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_GE(r.degeneratePatches, 1);
+  for (const auto& p : r.control.V) EXPECT_TRUE(p.allFinite());
+}
