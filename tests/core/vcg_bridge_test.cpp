@@ -1,0 +1,98 @@
+// Quad layers in MeshLab's faux-edge convention <-> QuadData.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "test_support.h"
+#include "vcg_ext/core/vcg_bridge.h"
+
+namespace {
+
+vcgext::QuadData Grid(int n) {
+  vcgext::QuadData q;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) q.V.emplace_back(i, j, 0.1 * i * j);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int a = j * (n + 1) + i;
+      q.F.push_back({a, a + 1, a + n + 2, a + n + 1});
+    }
+  return q;
+}
+
+// A quad as its cyclic sequence starting at the smallest index (orientation kept).
+std::vector<int> Canon(const vcgext::Quad& f) {
+  int s = 0;
+  for (int k = 1; k < 4; ++k)
+    if (f[k] < f[s]) s = k;
+  return {f[s], f[(s + 1) % 4], f[(s + 2) % 4], f[(s + 3) % 4]};
+}
+
+TEST(VcgBridge, QuadRoundTripKeepsFacesAndOrientation) {
+  auto q = Grid(4);
+  vcgext::TMesh m;
+  vcgext::ExportQuads(q, m);
+  EXPECT_EQ(m.fn, 2 * int(q.F.size()));
+  vcgext::QuadData back;
+  ASSERT_EQ(vcgext::ImportQuads(m, back), "");
+  ASSERT_EQ(back.F.size(), q.F.size());
+  std::set<std::vector<int>> a, b;
+  for (auto& f : q.F) a.insert(Canon(f));
+  for (auto& f : back.F) b.insert(Canon(f));
+  EXPECT_EQ(a, b);
+  for (size_t i = 0; i < q.V.size(); ++i) EXPECT_NEAR((q.V[i] - back.V[i]).norm(), 0.0, 1e-6);
+}
+
+TEST(VcgBridge, WedgeUVsFollowQuadCorners) {
+  auto q = Grid(2);
+  std::vector<std::array<Eigen::Vector2d, 4>> uv(q.F.size());
+  for (size_t i = 0; i < q.F.size(); ++i)
+    for (int k = 0; k < 4; ++k) uv[i][k] = Eigen::Vector2d(i + 0.1 * k, 0.5 * k);
+  vcgext::TMesh m;
+  vcgext::ExportQuads(q, m, &uv);
+  // Every wedge's UV is the one of its quad corner (same vertex).
+  for (size_t i = 0; i < q.F.size(); ++i)
+    for (int h = 0; h < 2; ++h)
+      for (int k = 0; k < 3; ++k) {
+        const auto& f = m.face[2 * i + h];
+        int vid = int(vcg::tri::Index(m, f.cV(k)));
+        int corner = -1;
+        for (int c = 0; c < 4; ++c)
+          if (q.F[i][c] == vid) corner = c;
+        ASSERT_GE(corner, 0);
+        EXPECT_NEAR(f.cWT(k).U(), uv[i][corner][0], 1e-6);
+        EXPECT_NEAR(f.cWT(k).V(), uv[i][corner][1], 1e-6);
+      }
+}
+
+TEST(VcgBridge, RejectsNonQuadLayersWithCounts) {
+  vcgext::TMesh m;
+  vcgext::QuadData q;
+  EXPECT_NE(vcgext::ImportQuads(m, q).find("empty"), std::string::npos);
+  testsupport::ToVcg(testsupport::PlaneGrid(2, 2), m);  // 8 triangles, no faux edges
+  std::string err = vcgext::ImportQuads(m, q);
+  EXPECT_NE(err.find("8 triangles"), std::string::npos) << err;
+  // Mark a faux edge on one triangle only: unmatched.
+  testsupport::ToVcg(testsupport::PlaneGrid(1, 1), m);
+  m.face[0].SetF(0);
+  err = vcgext::ImportQuads(m, q);
+  EXPECT_FALSE(err.empty());
+  // A pentagon (a triangle with two faux edges) is rejected.
+  vcgext::ExportQuads(Grid(1), m);
+  m.face[0].SetF(0);
+  err = vcgext::ImportQuads(m, q);
+  EXPECT_NE(err.find("more than four"), std::string::npos) << err;
+}
+
+TEST(VcgBridge, ExportTrianglesWritesQuality) {
+  auto d = testsupport::PlaneGrid(3, 3);
+  std::vector<double> q(d.V.size());
+  for (size_t i = 0; i < q.size(); ++i) q[i] = double(i) * 0.5;
+  vcgext::TMesh m;
+  vcgext::ExportTriangles(d, m, &q);
+  ASSERT_EQ(m.vn, int(d.V.size()));
+  ASSERT_EQ(m.fn, int(d.F.size()));
+  for (size_t i = 0; i < q.size(); ++i) EXPECT_FLOAT_EQ(m.vert[i].Q(), float(q[i]));
+}
+
+}  // namespace
