@@ -1,0 +1,454 @@
+/// \file loop_tools.cpp
+/// Interpolation (§3.3), per-vertex curvature, refinement mesher (§4).
+#include "vcg_ext/loop/loop_tools.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <unordered_set>
+
+#include "vcg_ext/core/progress.h"
+
+namespace vcgext {
+
+std::vector<std::pair<int, int>> HardEdgeList(const LoopSurface& s) {
+  std::vector<std::pair<int, int>> out;
+  for (int f = 0; f < s.NumFaces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      int g = s.FaceAcross(f, k);
+      if (s.EdgeHard(f, k) && (g < 0 || f < g)) out.push_back({s.Net().F[f][k], s.Net().F[f][(k + 1) % 3]});
+    }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------- interpolation
+LoopInterpolateResult InterpolateLoopNet(const TriData& net, const LoopInterpolateParams& p) {
+  auto t0 = std::chrono::steady_clock::now();
+  LoopInterpolateResult r;
+  LoopSurface s0(net, p.surface);
+  if (!s0.Ok()) { r.error = s0.Error(); return r; }
+  const int n = s0.NumVertices();
+  std::vector<int> ri, ci;
+  std::vector<double> wi;
+  s0.LimitMatrixTriplets(ri, ci, wi);
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(ri.size());
+  for (size_t t = 0; t < ri.size(); ++t) trip.emplace_back(ri[t], ci[t], wi[t]);
+  Eigen::SparseMatrix<double> S(n, n);
+  S.setFromTriplets(trip.begin(), trip.end());
+  Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::DiagonalPreconditioner<double>> solver;
+  solver.setTolerance(p.solverTol);
+  solver.setMaxIterations(p.maxIterations);
+  solver.compute(S);
+  Eigen::MatrixXd B(n, 3), X(n, 3);
+  for (int i = 0; i < n; ++i) B.row(i) = net.V[i].transpose();
+  for (int d = 0; d < 3; ++d) {
+    Eigen::VectorXd x = solver.solveWithGuess(B.col(d), B.col(d));
+    r.iterations = std::max(r.iterations, int(solver.iterations()));
+    X.col(d) = x;
+  }
+  Eigen::MatrixXd R = S * X - B;
+  const double diag = BBoxDiagonal(net.V);
+  r.residual = R.cwiseAbs().maxCoeff() / diag;
+  if (!X.allFinite()) { r.error = "the interpolation solve diverged (non-finite control points)"; return r; }
+  r.X.resize(n);
+  for (int i = 0; i < n; ++i) r.X[i] = X.row(i).transpose();
+  // cusp detection (Fig. 10)
+  TriData moved = net;
+  moved.V = r.X;
+  LoopSurfaceParams sp = p.surface;
+  sp.creaseAngleDeg = 0;
+  sp.extraHardEdges = HardEdgeList(s0);
+  LoopSurface s1(moved, sp);
+  if (!s1.Ok()) { r.error = "interpolated net: " + s1.Error(); return r; }
+  std::vector<Vec3> fn = FaceNormals(net);
+  std::vector<char> flipped(n, 0), folded(net.F.size(), 0);
+  const double d = p.cuspProbe;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int f = 0; f < int(net.F.size()); ++f) {
+    LoopEval e;
+    s1.Evaluate(f, 1.0 / 3, 1.0 / 3, e, 1);
+    if (e.N.dot(fn[f]) < 0) folded[f] = 1;
+    const double pv[3][2] = {{d, d}, {1 - 2 * d, d}, {d, 1 - 2 * d}};
+    for (int k = 0; k < 3; ++k) {
+      s1.Evaluate(f, pv[k][0], pv[k][1], e, 1);
+      if (e.N.dot(fn[f]) < 0) flipped[net.F[f][k]] = 1;  // benign race: only ever set to 1
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    if (flipped[i]) { ++r.flippedVertices; r.cuspVertices.push_back(i); }
+  for (char c : folded) r.foldedFaces += c;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+// ---------------------------------------------------------------------------------- curvature
+static double Pick(const LoopCurvature& k, LoopCurvatureKind kind) {
+  switch (kind) {
+    case LoopCurvatureKind::Mean: return k.Mean();
+    case LoopCurvatureKind::Gauss: return k.Gauss();
+    case LoopCurvatureKind::MaxAbs: return k.MaxAbs();
+    case LoopCurvatureKind::Min: return k.k2;
+    case LoopCurvatureKind::Max: return k.k1;
+  }
+  return 0;
+}
+
+std::vector<double> LoopVertexCurvature(const LoopSurface& s, LoopCurvatureKind kind, double probe) {
+  const int n = s.NumVertices();
+  std::vector<double> out(n, 0.0);
+  if (!s.Ok()) return out;
+  Adjacency vf = VertexFaceAdjacency(s.Net().F, n);
+  const auto& F = s.Net().F;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int i = 0; i < n; ++i) {
+    if (vf.Count(i) == 0) continue;
+    bool regular = s.VertexType(i) == LoopVertexType::Smooth && vf.Count(i) == 6;
+    for (const int* f = vf.Begin(i); f != vf.End(i) && regular; ++f) regular = s.FaceIsRegular(*f);
+    auto corner = [&](int f) { for (int k = 0; k < 3; ++k) if (F[f][k] == i) return k; return 0; };
+    if (regular) {
+      int f = *vf.Begin(i), k = corner(f);
+      const double cv[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+      out[i] = Pick(s.Curvature(f, cv[k][0], cv[k][1]), kind);
+      continue;
+    }
+    LoopCurvature acc;
+    acc.k1 = acc.k2 = 0;
+    int cnt = 0;
+    for (const int* f = vf.Begin(i); f != vf.End(i); ++f) {
+      int k = corner(*f);
+      double b[3] = {probe, probe, probe};
+      b[k] = 1 - 2 * probe;
+      LoopCurvature c = s.Curvature(*f, b[1], b[2]);
+      acc.k1 += c.k1;
+      acc.k2 += c.k2;
+      ++cnt;
+    }
+    acc.k1 /= cnt;
+    acc.k2 /= cnt;
+    out[i] = Pick(acc, kind);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------- refinement
+namespace {
+
+struct Refiner {
+  const LoopSurface& s;
+  const TriData& net;
+  std::vector<Vec3> P;
+  std::vector<int> pf;
+  std::vector<double> pv, pw;
+  std::vector<Tri> F;
+  std::vector<std::array<int, 3>> opp;
+  std::vector<std::array<unsigned char, 3>> hard;
+  std::unordered_set<uint64_t> edges;
+
+  explicit Refiner(const LoopSurface& surf) : s(surf), net(surf.Net()) {}
+
+  static uint64_t Key(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+  }
+  /// Expresses vertex x's parameter in control face T (possible when it lies in T's closure).
+  bool Express(int x, int T, double& v, double& w) const {
+    if (pf[x] == T) { v = pv[x]; w = pw[x]; return true; }
+    const Tri& A = net.F[pf[x]];
+    const Tri& B = net.F[T];
+    double b[3] = {1 - pv[x] - pw[x], pv[x], pw[x]}, bt[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i) {
+      if (b[i] <= 1e-13) continue;
+      int j = 0;
+      while (j < 3 && B[j] != A[i]) ++j;
+      if (j == 3) return false;
+      bt[j] = b[i];
+    }
+    double sum = bt[0] + bt[1] + bt[2];
+    v = bt[1] / sum;
+    w = bt[2] / sum;
+    return true;
+  }
+  /// Parameter of the average of the given vertices (centroid / edge midpoint) if they share a
+  /// control face; otherwise the closest surface point to their 3-D average (snap).
+  void Average(const int* vs, int nvs, int& face, double& v, double& w) const {
+    int cands[6], nc = 0;
+    for (int i = 0; i < nvs; ++i) {
+      cands[nc++] = pf[vs[i]];
+      if (nvs == 2)
+        for (int k = 0; k < 3 && nc < 6; ++k) {
+          int g = s.FaceAcross(pf[vs[i]], k);
+          if (g >= 0) cands[nc++] = g;
+        }
+    }
+    for (int c = 0; c < nc; ++c) {
+      double sv = 0, sw = 0;
+      bool ok = true;
+      for (int i = 0; i < nvs && ok; ++i) {
+        double a, b;
+        ok = Express(vs[i], cands[c], a, b);
+        sv += a;
+        sw += b;
+      }
+      if (ok) { face = cands[c]; v = sv / nvs; w = sw / nvs; return; }
+    }
+    Vec3 c = Vec3::Zero();
+    for (int i = 0; i < nvs; ++i) c += P[vs[i]];
+    c /= nvs;
+    LoopSnapResult r = SnapToLoopSurface(s, c, nullptr, pf[vs[0]], pv[vs[0]], pw[vs[0]]);
+    face = r.face;
+    v = r.v;
+    w = r.w;
+  }
+  void SetOpp(int g, int a, int b, int nf) {  // in face g, edge (a,b) either direction -> nf
+    if (g < 0) return;
+    for (int k = 0; k < 3; ++k) {
+      int x = F[g][k], y = F[g][(k + 1) % 3];
+      if ((x == a && y == b) || (x == b && y == a)) { opp[g][k] = nf; return; }
+    }
+  }
+  int AddVertex(const Vec3& p, int f, double v, double w) {
+    P.push_back(p);
+    pf.push_back(f);
+    pv.push_back(v);
+    pw.push_back(w);
+    return int(P.size()) - 1;
+  }
+  void SplitFace(int f, int p) {
+    int a = F[f][0], b = F[f][1], c = F[f][2];
+    int nA = opp[f][0], nB = opp[f][1], nC = opp[f][2];
+    auto h = hard[f];
+    int f2 = int(F.size()), f3 = f2 + 1;
+    F[f] = {a, b, p};
+    opp[f] = {nA, f2, f3};
+    hard[f] = {h[0], 0, 0};
+    F.push_back({b, c, p});
+    opp.push_back({nB, f3, f});
+    hard.push_back({h[1], 0, 0});
+    F.push_back({c, a, p});
+    opp.push_back({nC, f, f2});
+    hard.push_back({h[2], 0, 0});
+    SetOpp(nB, b, c, f2);
+    SetOpp(nC, c, a, f3);
+    edges.insert(Key(a, p));
+    edges.insert(Key(b, p));
+    edges.insert(Key(c, p));
+  }
+  void SplitEdge(int f, int k, int m) {
+    int a = F[f][k], b = F[f][(k + 1) % 3], c = F[f][(k + 2) % 3];
+    int g = opp[f][k];
+    unsigned char hk = hard[f][k];
+    int fbc = opp[f][(k + 1) % 3], fca = opp[f][(k + 2) % 3];
+    unsigned char hbc = hard[f][(k + 1) % 3], hca = hard[f][(k + 2) % 3];
+    int f2 = int(F.size());
+    int g2 = g >= 0 ? f2 + 1 : -1;
+    int j = 0, d = -1, gdb = -1, gad = -1;
+    unsigned char hdb = 0, had = 0;
+    if (g >= 0) {
+      while (!(F[g][j] == b && F[g][(j + 1) % 3] == a)) ++j;
+      d = F[g][(j + 2) % 3];
+      gad = opp[g][(j + 1) % 3];  // edge (a, d)
+      gdb = opp[g][(j + 2) % 3];  // edge (d, b)
+      had = hard[g][(j + 1) % 3];
+      hdb = hard[g][(j + 2) % 3];
+    }
+    F[f] = {a, m, c};
+    opp[f] = {g2, f2, fca};
+    hard[f] = {hk, 0, hca};
+    F.push_back({m, b, c});
+    opp.push_back({g, fbc, f});
+    hard.push_back({hk, hbc, 0});
+    SetOpp(fbc, b, c, f2);
+    edges.erase(Key(a, b));
+    edges.insert(Key(a, m));
+    edges.insert(Key(m, b));
+    edges.insert(Key(m, c));
+    if (g >= 0) {
+      F[g] = {b, m, d};
+      opp[g] = {f2, g2, gdb};
+      hard[g] = {hk, 0, hdb};
+      F.push_back({m, a, d});
+      opp.push_back({f, gad, g});
+      hard.push_back({hk, had, 0});
+      SetOpp(gad, a, d, g2);
+      edges.insert(Key(m, d));
+    }
+  }
+  static double MinAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
+    auto ang = [](const Vec3& p, const Vec3& q, const Vec3& r) {
+      Vec3 u = q - p, v = r - p;
+      return std::atan2(u.cross(v).norm(), u.dot(v));
+    };
+    return std::min(ang(a, b, c), std::min(ang(b, c, a), ang(c, a, b)));
+  }
+  int SwapPass() {
+    int swaps = 0;
+    const int nF = int(F.size());
+    for (int f = 0; f < nF; ++f)
+      for (int k = 0; k < 3; ++k) {
+        int g = opp[f][k];
+        if (g < 0 || g < f || hard[f][k]) continue;
+        int a = F[f][k], b = F[f][(k + 1) % 3], c = F[f][(k + 2) % 3];
+        int j = 0;
+        while (j < 3 && !(F[g][j] == b && F[g][(j + 1) % 3] == a)) ++j;
+        if (j == 3) continue;
+        int d = F[g][(j + 2) % 3];
+        if (c == d || edges.count(Key(c, d))) continue;
+        const Vec3 &A = P[a], &B = P[b], &C = P[c], &D = P[d];
+        double before = std::min(MinAngle(A, B, C), MinAngle(B, A, D));
+        double after = std::min(MinAngle(C, A, D), MinAngle(D, B, C));
+        if (after <= before + 1e-9) continue;
+        Vec3 n0 = (B - A).cross(C - A) + (A - B).cross(D - B);
+        Vec3 n1 = (A - C).cross(D - C), n2 = (B - D).cross(C - D);
+        if (n1.dot(n0) <= 0 || n2.dot(n0) <= 0 || n1.dot(n2) <= 0.1 * n1.norm() * n2.norm()) continue;
+        int fbc = opp[f][(k + 1) % 3], fca = opp[f][(k + 2) % 3];
+        unsigned char hbc = hard[f][(k + 1) % 3], hca = hard[f][(k + 2) % 3];
+        int gad = opp[g][(j + 1) % 3], gdb = opp[g][(j + 2) % 3];
+        unsigned char had = hard[g][(j + 1) % 3], hdb = hard[g][(j + 2) % 3];
+        F[f] = {c, a, d};
+        opp[f] = {fca, gad, g};
+        hard[f] = {hca, had, 0};
+        F[g] = {d, b, c};
+        opp[g] = {gdb, fbc, f};
+        hard[g] = {hdb, hbc, 0};
+        SetOpp(gad, a, d, f);
+        SetOpp(fbc, b, c, g);
+        edges.erase(Key(a, b));
+        edges.insert(Key(c, d));
+        ++swaps;
+        break;  // face f changed: move on
+      }
+    return swaps;
+  }
+};
+
+}  // namespace
+
+LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams& p, vcg::CallBackPos* cb) {
+  auto t0 = std::chrono::steady_clock::now();
+  LoopRefineResult res;
+  if (!s.Ok()) { res.error = s.Error(); return res; }
+  if (p.targetFaces < 1) { res.error = "targetFaces must be positive"; return res; }
+  Progress prog(cb);
+  Refiner R(s);
+  const TriData& net = s.Net();
+  const int nV = s.NumVertices(), nF = s.NumFaces();
+  // start: control topology, vertices at their limit positions (isolated vertices dropped)
+  std::vector<int> remap(nV, -1);
+  const double cv[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+  for (int i = 0; i < nV; ++i) {
+    auto fc = s.VertexCorner(i);
+    if (fc.first < 0) continue;
+    remap[i] = R.AddVertex(s.VertexLimit(i), fc.first, cv[fc.second][0], cv[fc.second][1]);
+  }
+  R.F.resize(nF);
+  R.opp.resize(nF);
+  R.hard.resize(nF);
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      R.F[f][k] = remap[net.F[f][k]];
+      R.opp[f][k] = s.FaceAcross(f, k);
+      R.hard[f][k] = s.EdgeHard(f, k) ? 1 : 0;
+      R.edges.insert(Refiner::Key(R.F[f][k], remap[net.F[f][(k + 1) % 3]]));
+    }
+  const double diag = BBoxDiagonal(net.V);
+  const bool adaptive = p.mode == LoopRefineParams::Mode::Adaptive;
+  std::vector<double> metric;
+  std::vector<int> cf;
+  std::vector<double> cvv, cww;
+  std::vector<Vec3> cp;
+  while (int(R.F.size()) < p.targetFaces) {
+    const int m = int(R.F.size());
+    metric.assign(m, 0);
+    cf.assign(m, -1);
+    cvv.assign(m, 0);
+    cww.assign(m, 0);
+    cp.assign(m, Vec3::Zero());
+#pragma omp parallel for schedule(dynamic, 512)
+    for (int f = 0; f < m; ++f) {
+      const Tri& t = R.F[f];
+      double area = 0.5 * (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).norm();
+      int face;
+      double v, w;
+      R.Average(t.data(), 3, face, v, w);
+      LoopEval e;
+      s.Evaluate(face, v, w, e, adaptive ? 2 : 0);
+      cf[f] = face;
+      cvv[f] = v;
+      cww[f] = w;
+      cp[f] = e.P;
+      if (adaptive) {
+        if (e.N.squaredNorm() == 0) e.N = (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).normalized();
+        LoopCurvature k = CurvatureFromDerivatives(e);
+        metric[f] = (k.MaxAbs() + p.flatWeight / diag) * area / diag;
+      } else {
+        metric[f] = area / (diag * diag);
+      }
+    }
+    double mx = 0;
+    for (double x : metric) mx = std::max(mx, x);
+    res.maxMetric = mx;
+    if (p.tolerance > 0 && mx <= p.tolerance) break;
+    int K = std::max(1, std::min(int(std::ceil(p.batchFraction * m)), (p.targetFaces - m + 1) / 2));
+    std::vector<int> order(m);
+    for (int i = 0; i < m; ++i) order[i] = i;
+    if (K < m) std::nth_element(order.begin(), order.begin() + K, order.end(), [&](int a, int b) { return metric[a] > metric[b]; });
+    if (p.tolerance > 0) {  // never split faces already below the tolerance
+      int k2 = 0;
+      for (int i = 0; i < K; ++i)
+        if (metric[order[i]] > p.tolerance) order[k2++] = order[i];
+      K = k2;
+    }
+    std::vector<std::pair<int, int>> hardSplit;  // (a,b) directed edges to split
+    for (int i = 0; i < K; ++i) {
+      int f = order[i];
+      const Tri t = R.F[f];
+      for (int k = 0; k < 3; ++k)
+        if (R.hard[f][k]) hardSplit.push_back({t[k], t[(k + 1) % 3]});
+      int pidx = R.AddVertex(cp[f], cf[f], cvv[f], cww[f]);
+      R.SplitFace(f, pidx);
+      ++res.insertions;
+    }
+    // hard edges of refined faces: split at the parameter midpoint (a point of the crease curve)
+    for (auto& e : hardSplit) {
+      if (!R.edges.count(Refiner::Key(e.first, e.second))) continue;  // already split
+      // the faces made by SplitFace keep their outer edge at index 0: f, m + 2i, m + 2i + 1
+      int face = -1, kk = -1;
+      for (int i = 0; i < K && face < 0; ++i) {
+        int f = order[i];
+        int cand[3] = {f, m + 2 * i, m + 2 * i + 1};
+        for (int c : cand)
+          if (c < int(R.F.size()) && R.F[c][0] == e.first && R.F[c][1] == e.second) { face = c; kk = 0; break; }
+      }
+      if (face < 0) continue;
+      int vs[2] = {e.first, e.second};
+      int pfce;
+      double v, w;
+      R.Average(vs, 2, pfce, v, w);
+      int mid = R.AddVertex(s.Position(pfce, v, w), pfce, v, w);
+      R.SplitEdge(face, kk, mid);
+      ++res.edgeSplits;
+    }
+    for (int sp = 0; sp < p.swapPasses; ++sp) {
+      int n = R.SwapPass();
+      res.swaps += n;
+      if (n == 0) break;
+    }
+    ++res.passes;
+    prog(100.0 * double(R.F.size()) / p.targetFaces, "Loop surrogate: refining");
+  }
+  res.mesh.V = R.P;
+  res.mesh.F = R.F;
+  res.paramFace = R.pf;
+  res.paramV = R.pv;
+  res.paramW = R.pw;
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace vcgext

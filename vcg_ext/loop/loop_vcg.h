@@ -1,0 +1,133 @@
+#pragma once
+/// \file loop_vcg.h
+/// vcg-mesh entry points of the Loop surrogate toolkit (for the MeshLab filters "Loop
+/// Surrogate: Refine Surface / Snap Points / Curvature"). Each validates the input layer (see
+/// ImportTriangles and LoopSurface), leaves it untouched on error and returns the error string.
+#include <string>
+#include <vector>
+
+#include <vcg/complex/complex.h>
+#include <wrap/callback.h>
+
+#include "vcg_ext/core/embree_scene.h"
+#include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/loop/loop_surface.h"
+#include "vcg_ext/loop/loop_tools.h"
+
+namespace vcgext {
+
+/// Statistics of the vcg entry points.
+struct LoopVcgReport {
+  std::string error;
+  int hardEdges = 0, hardVertices = 0, irregularFaces = 0;
+  LoopInterpolateResult interp;  ///< filled when interpolation was requested
+  LoopRefineResult refine;       ///< mesh arrays cleared after copying (stats kept)
+  std::vector<double> distances; ///< snap: per moved vertex
+  double maxDistance = 0, meanDistance = 0;
+  int snapNotConverged = 0;
+};
+
+/// Refine Surface: builds the Loop surface of `in` (optionally made interpolating, §3.3) and
+/// writes the refined triangulation (§4) into `out` (cleared first). Per-vertex float
+/// attributes "LoopFace", "LoopV", "LoopW" hold the parameters of each output vertex.
+template <class MeshType>
+LoopVcgReport LoopRefineMesh(const MeshType& in, MeshType& out, const LoopSurfaceParams& sp, bool interpolate,
+                             const LoopRefineParams& rp, vcg::CallBackPos* cb = nullptr) {
+  LoopVcgReport rep;
+  TriData d;
+  ImportReport ir = ImportTriangles(in, d);
+  if (!ir.error.empty()) { rep.error = ir.error; return rep; }
+  LoopSurfaceParams p = sp;
+  if (interpolate) {
+    LoopInterpolateParams ip;
+    ip.surface = sp;
+    rep.interp = InterpolateLoopNet(d, ip);
+    if (!rep.interp.error.empty()) { rep.error = rep.interp.error; return rep; }
+    LoopSurface s0(d, sp);
+    p.creaseAngleDeg = 0;
+    p.extraHardEdges = HardEdgeList(s0);
+    d.V = rep.interp.X;
+  }
+  LoopSurface s(d, p);
+  if (!s.Ok()) { rep.error = s.Error(); return rep; }
+  rep.hardEdges = s.NumHardEdges();
+  rep.hardVertices = s.NumCornerVertices();
+  rep.irregularFaces = s.NumIrregularFaces();
+  rep.refine = RefineLoopSurface(s, rp, cb);
+  if (!rep.refine.error.empty()) { rep.error = rep.refine.error; return rep; }
+  out.Clear();
+  const auto& R = rep.refine.mesh;
+  auto vi = vcg::tri::Allocator<MeshType>::AddVertices(out, R.V.size());
+  for (size_t i = 0; i < R.V.size(); ++i, ++vi) vi->P() = typename MeshType::CoordType(R.V[i][0], R.V[i][1], R.V[i][2]);
+  auto fi = vcg::tri::Allocator<MeshType>::AddFaces(out, R.F.size());
+  for (size_t f = 0; f < R.F.size(); ++f, ++fi)
+    for (int k = 0; k < 3; ++k) fi->V(k) = &out.vert[R.F[f][k]];
+  auto hf = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(out, "LoopFace");
+  auto hv = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(out, "LoopV");
+  auto hw = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(out, "LoopW");
+  for (size_t i = 0; i < R.V.size(); ++i) {
+    hf[i] = float(rep.refine.paramFace[i]);
+    hv[i] = float(rep.refine.paramV[i]);
+    hw[i] = float(rep.refine.paramW[i]);
+  }
+  rep.refine.mesh = TriData();
+  return rep;
+}
+
+/// Snap Points: moves every live vertex of `points` onto the Loop surface of `netMesh`
+/// (closest point, §2.1) and reports the distances (absolute units).
+template <class MeshType>
+LoopVcgReport LoopSnapVertices(MeshType& points, const MeshType& netMesh, const LoopSurfaceParams& sp) {
+  LoopVcgReport rep;
+  TriData d;
+  ImportReport ir = ImportTriangles(netMesh, d);
+  if (!ir.error.empty()) { rep.error = ir.error; return rep; }
+  LoopSurface s(d, sp);
+  if (!s.Ok()) { rep.error = s.Error(); return rep; }
+  EmbreeScene scene(d);
+  if (!scene.Ok()) { rep.error = scene.Error(); return rep; }
+  std::vector<Vec3> q;
+  for (const auto& v : points.vert)
+    if (!v.IsD()) q.emplace_back(v.cP()[0], v.cP()[1], v.cP()[2]);
+  for (const auto& x : q)
+    if (!x.allFinite()) { rep.error = "the point layer has NaN or infinite coordinates"; return rep; }
+  std::vector<LoopSnapResult> r(q.size());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int i = 0; i < int(q.size()); ++i) r[i] = SnapToLoopSurface(s, q[i], &scene);
+  size_t i = 0;
+  double sum = 0;
+  for (auto& v : points.vert) {
+    if (v.IsD()) continue;
+    v.P() = typename MeshType::CoordType(r[i].point[0], r[i].point[1], r[i].point[2]);
+    rep.distances.push_back(r[i].distance);
+    rep.maxDistance = std::max(rep.maxDistance, r[i].distance);
+    sum += r[i].distance;
+    rep.snapNotConverged += r[i].converged ? 0 : 1;
+    ++i;
+  }
+  rep.meanDistance = q.empty() ? 0 : sum / q.size();
+  return rep;
+}
+
+/// Curvature: per-vertex quality Q() = the chosen curvature of the limit surface at each
+/// vertex's limit point (see LoopVertexCurvature for extraordinary / crease vertices).
+template <class MeshType>
+LoopVcgReport LoopCurvatureToQuality(MeshType& m, const LoopSurfaceParams& sp, LoopCurvatureKind kind) {
+  LoopVcgReport rep;
+  TriData d;
+  ImportReport ir = ImportTriangles(m, d);
+  if (!ir.error.empty()) { rep.error = ir.error; return rep; }
+  LoopSurface s(d, sp);
+  if (!s.Ok()) { rep.error = s.Error(); return rep; }
+  rep.hardEdges = s.NumHardEdges();
+  rep.hardVertices = s.NumCornerVertices();
+  std::vector<double> k = LoopVertexCurvature(s, kind);
+  size_t i = 0;
+  for (auto& v : m.vert) {
+    if (v.IsD()) continue;
+    v.Q() = typename MeshType::ScalarType(k[i++]);
+  }
+  return rep;
+}
+
+}  // namespace vcgext
