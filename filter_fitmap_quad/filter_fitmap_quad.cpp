@@ -18,6 +18,17 @@ const FilterSpec kFilters[] = {
      "attributes (FitmapS, FitmapM) for the quad simplification; the chosen one is copied to "
      "the vertex quality and colour-mapped.",
      MeshFilterInterface::Quality | MeshFilterInterface::Remeshing},
+    {FP_FIT_AND_BAKE, "Fit Catmull-Clark Surface and Bake Displacement",
+     "Fits the Catmull-Clark limit surface of the current pure-quad layer (the control mesh, "
+     "e.g. from Fitmap Quad Simplification or any quad remesher) to a reference triangle layer "
+     "by sparse least squares on exact limit stencils (Panozzo et al. 2011, §3.5), then bakes "
+     "the scalar displacement along the limit normal into a 16-bit PNG atlas (one tile per "
+     "patch). New layers: the fitted control mesh (with per-wedge UVs and the displacement "
+     "texture), the limit surface (quality = signed distance to the reference) and the "
+     "displaced surface. Also writes control.obj (real quads), displacement.png/.json, "
+     "optionally normal.png, and report.json (patches, irregular vertices, unprojectable area, "
+     "RMS/max errors in 1/1000 of the bbox diagonal, times, peak memory) to the output folder.",
+     MeshFilterInterface::Remeshing | MeshFilterInterface::Polygonal | MeshFilterInterface::Texture},
 };
 
 const FilterSpec* Spec(int id) {
@@ -62,6 +73,8 @@ int FilterFitmapQuadPlugin::postCondition(QAction* a) const {
   switch (ID(a)) {
     case FP_COMPUTE_FITMAPS:
       return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+    case FP_FIT_AND_BAKE:
+      return MeshModel::MM_NONE;  // the input layers are not modified; new layers are added
   }
   return MeshModel::MM_ALL;
 }
@@ -69,6 +82,7 @@ int FilterFitmapQuadPlugin::postCondition(QAction* a) const {
 void FilterFitmapQuadPlugin::initParameterSet(QAction* a, MeshDocument& md, RichParameterList& par) {
   switch (ID(a)) {
     case FP_COMPUTE_FITMAPS: InitFitmapsParams(md, par); break;
+    case FP_FIT_AND_BAKE: InitFitParams(md, par); break;
   }
 }
 
@@ -83,6 +97,7 @@ bool FilterFitmapQuadPlugin::applyFilter(QAction* a, MeshDocument& md, const Ric
   try {
     switch (ID(a)) {
       case FP_COMPUTE_FITMAPS: return ApplyFitmaps(ctx);
+      case FP_FIT_AND_BAKE: return ApplyFit(ctx);
     }
   } catch (const std::exception& e) {
     return ctx.Fail(std::string("internal error: ") + e.what());

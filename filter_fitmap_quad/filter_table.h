@@ -8,6 +8,11 @@ namespace fitmapquad {
 
 enum FilterId {
   FP_COMPUTE_FITMAPS = 0,
+  FP_QUAD_SIMPLIFICATION = 1,
+  FP_FIT_AND_BAKE = 2,
+  FP_LOOP_REFINE = 3,
+  FP_LOOP_SNAP = 4,
+  FP_LOOP_CURVATURE = 5,
 };
 
 struct FilterSpec {
@@ -26,6 +31,14 @@ inline const char* kMaxRadiusPerc = "maxRadiusPerc";  ///< float, % of bbox diag
 inline const char* kChannel = "channel";              ///< enum: 0 = S-fitmap, 1 = M-fitmap
 inline const char* kColorize = "colorize";            ///< bool
 inline const char* kMode = "mode";                    ///< enum: 0 = fast, 1 = reference
+// Fit Catmull-Clark Surface and Bake Displacement
+inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)
+inline const char* kLimitSegments = "limitSegments";      ///< int, N per patch side
+inline const char* kTextureResolution = "textureResolution";  ///< int, R per tile side, 0 = auto
+inline const char* kNormalMap = "normalMap";              ///< bool
+inline const char* kMaxDistPerc = "maxDistPerc";          ///< float, % of bbox diagonal
+inline const char* kFitIterations = "fitIterations";      ///< int
+inline const char* kOutputDir = "outputDir";              ///< string, folder for textures/OBJ/report
 }  // namespace param
 
 }  // namespace fitmapquad

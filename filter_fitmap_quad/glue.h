@@ -7,6 +7,8 @@
 
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fitmapquad {
 
@@ -24,8 +26,17 @@ struct GlueContext {
   }
 };
 
+/// Wall time of the pipeline stages that produced a layer, carried from layer to layer as a
+/// per-mesh attribute so the final report can list every stage.
+using StageTimes = std::vector<std::pair<std::string, double>>;
+StageTimes GetStageTimes(CMeshO& m);
+void SetStageTimes(CMeshO& m, const StageTimes& t);
+
 // Compute Fitmaps (glue_fitmaps.cpp)
 void InitFitmapsParams(MeshDocument& md, RichParameterList& par);
 bool ApplyFitmaps(GlueContext& ctx);
+// Fit Catmull-Clark Surface and Bake Displacement (glue_fit.cpp)
+void InitFitParams(MeshDocument& md, RichParameterList& par);
+bool ApplyFit(GlueContext& ctx);
 
 }  // namespace fitmapquad

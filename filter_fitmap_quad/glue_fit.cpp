@@ -1,0 +1,128 @@
+// Glue for "Fit Catmull-Clark Surface and Bake Displacement" (paper §3.5, §4):
+// control layer (pure quads) + reference layer -> fitted control, limit, displaced layers,
+// displacement/normal textures, quad OBJ and report.json.
+#include <QDir>
+#include <QFileInfo>
+
+#include "filter_table.h"
+#include "glue.h"
+#include "vcg_ext/core/quality.h"
+#include "vcg_ext/core/vcg_bridge.h"
+#include "vcg_ext/fit/bake.h"
+#include "vcg_ext/fit/fit_io.h"
+
+namespace fitmapquad {
+
+void InitFitParams(MeshDocument& md, RichParameterList& par) {
+  const vcgext::FitBakeParams d;
+  // Default reference: the first layer that is not the current one (the scan the control mesh
+  // was built from comes first in the pipeline).
+  MeshModel* ref = md.mm();
+  for (MeshModel* m : md.meshList)
+    if (m != md.mm()) { ref = m; break; }
+  par.addParam(RichMesh(param::kReferenceMesh, ref, &md, "Reference mesh",
+                        "The triangle mesh (scan) the limit surface is fitted to and the "
+                        "displacement is measured from."));
+  par.addParam(RichInt(param::kLimitSegments, d.limitSegments, "Limit tessellation (N)",
+                       "Each patch of the limit surface layer is tessellated N x N."));
+  par.addParam(RichInt(param::kTextureResolution, d.textureResolution, "Texture tile size (R)",
+                       "Texels per patch side of the displacement atlas; 0 = automatic (total "
+                       "samples about the number of reference vertices, as in the paper)."));
+  par.addParam(RichBool(param::kNormalMap, d.normalMap, "Bake normal map",
+                        "Also write an object-space normal map in the same atlas layout."));
+  par.addParam(RichFloat(param::kMaxDistPerc, float(d.maxDistPercent), "Max distance (% of bbox diagonal)",
+                         "Largest projection / displacement distance along the limit normal."));
+  par.addParam(RichInt(param::kFitIterations, d.fit.maxIterations, "Fit iterations",
+                       "Maximum project -> solve iterations of the least-squares fit."));
+  par.addParam(RichString(param::kOutputDir, "", "Output folder",
+                          "Where displacement.png (+ .json), normal.png, control.obj (+ .mtl) and "
+                          "report.json are written. Empty: a folder <reference>_cc next to the "
+                          "reference mesh file (or in the temporary folder)."));
+}
+
+bool ApplyFit(GlueContext& ctx) {
+  MeshModel& control = *ctx.md.mm();
+  MeshModel* refModel = ctx.par.getMesh(param::kReferenceMesh);
+  if (!refModel) return ctx.Fail("the reference layer is missing");
+  if (refModel == &control)
+    return ctx.Fail("the reference layer must be another layer than the control mesh (the current layer)");
+
+  vcgext::QuadData quads;
+  std::string err = vcgext::ImportQuads(control.cm, quads);
+  if (!err.empty()) return ctx.Fail(err);
+  vcgext::TriData ref;
+  vcgext::ImportReport rep = vcgext::ImportTriangles(refModel->cm, ref);
+  if (!rep.error.empty()) return ctx.Fail("reference layer: " + rep.error);
+
+  vcgext::FitBakeParams p;
+  p.limitSegments = ctx.par.getInt(param::kLimitSegments);
+  p.textureResolution = ctx.par.getInt(param::kTextureResolution);
+  p.normalMap = ctx.par.getBool(param::kNormalMap);
+  p.maxDistPercent = ctx.par.getFloat(param::kMaxDistPerc);
+  p.fit.maxIterations = ctx.par.getInt(param::kFitIterations);
+  if (p.limitSegments < 1 || p.limitSegments > 64) return ctx.Fail("limit tessellation N must be in [1, 64]");
+  if (p.textureResolution < 0 || p.textureResolution > 1024)
+    return ctx.Fail("texture tile size R must be 0 (automatic) or in [2, 1024]");
+  if (p.textureResolution == 1) return ctx.Fail("texture tile size R must be at least 2");
+  if (!(p.maxDistPercent > 0 && p.maxDistPercent <= 100)) return ctx.Fail("max distance must be in (0, 100] percent");
+  if (p.fit.maxIterations < 1 || p.fit.maxIterations > 100) return ctx.Fail("fit iterations must be in [1, 100]");
+
+  QString outDir = ctx.par.getString(param::kOutputDir).trimmed();
+  if (outDir.isEmpty()) {
+    QFileInfo fi(refModel->fullName());
+    outDir = (refModel->fullName().isEmpty() ? QDir::tempPath() : fi.absolutePath()) + "/" +
+             (fi.completeBaseName().isEmpty() ? QString("fitmap") : fi.completeBaseName()) + "_cc";
+  }
+  outDir = QDir(outDir).absolutePath();
+  if (!QDir().mkpath(outDir)) return ctx.Fail("cannot create the output folder " + outDir.toStdString());
+
+  vcgext::EmbreeScene scene(ref);
+  if (!scene.Ok()) return ctx.Fail(scene.Error());
+  vcgext::FitBakeResult r = vcgext::FitAndBake(quads, ref, scene, p, ctx.cb);
+  if (!r.error.empty()) return ctx.Fail("Fit Catmull-Clark Surface: " + r.error);
+
+  // Files first: a layer's texture must exist when MeshLab shows it.
+  const std::string dir = outDir.toStdString();
+  const std::string png = dir + "/displacement.png";
+  const std::string nrm = p.normalMap ? dir + "/normal.png" : "";
+  for (std::string e : {vcgext::WritePngGray16(png, r.atlas.width, r.atlas.height, r.atlas.q16),
+                        p.normalMap ? vcgext::WritePngRgb8(nrm, r.atlas.width, r.atlas.height, r.atlas.normalRGB)
+                                    : std::string(),
+                        vcgext::WriteAtlasJson(dir + "/displacement.json", r.atlas, "displacement.png",
+                                               p.normalMap ? "normal.png" : ""),
+                        vcgext::WriteQuadObj(dir + "/control.obj", r.fit.control, r.atlas.wedgeUV,
+                                             "displacement.png")})
+    if (!e.empty()) return ctx.Fail(e);
+  StageTimes earlier = GetStageTimes(control.cm);
+  err = vcgext::WriteReportJson(dir + "/report.json", r, earlier);
+  if (!err.empty()) return ctx.Fail(err);
+
+  // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
+  const QString base = control.label();
+  MeshModel* fitted = ctx.md.addNewMesh("", base + " fitted", false);
+  fitted->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_POLYGONAL);
+  vcgext::ExportQuads(r.fit.control, fitted->cm, &r.atlas.wedgeUV);
+  fitted->cm.textures.push_back(png);
+  fitted->UpdateBoxAndNormals();
+  StageTimes all = earlier;
+  for (const auto& t : r.times) all.push_back(t);
+  SetStageTimes(fitted->cm, all);
+
+  auto addSurface = [&](const vcgext::LimitTessellation& t, const QString& name) {
+    MeshModel* m = ctx.md.addNewMesh("", name, false);
+    m->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+    vcgext::ExportTriangles(t.mesh, m->cm, t.quality.empty() ? nullptr : &t.quality);
+    vcgext::ColorizeQuality(m->cm);
+    m->UpdateBoxAndNormals();
+  };
+  addSurface(r.limit, base + " limit");
+  addSurface(r.displaced, base + " displaced");
+  ctx.md.setCurrentMesh(fitted->id());
+
+  ctx.log(vcgext::FormatReport(r));
+  ctx.log("Fit Catmull-Clark Surface: wrote displacement.png, displacement.json, " +
+          std::string(p.normalMap ? "normal.png, " : "") + "control.obj, report.json to " + dir);
+  return true;
+}
+
+}  // namespace fitmapquad
