@@ -127,9 +127,13 @@ TEST(CCLimit, GlobalAndLocalInterpolation) {
     std::vector<Vec3> frozen = m.P;
     auto sl = vcgext::quad::SolveInterpolationLocal(m, W, T, 1e-12, 500);
     EXPECT_TRUE(sl.converged) << sl.maxResidual;
-    for (size_t i = 0; i < W.size(); ++i) EXPECT_LT((vcgext::quad::VertexLimit(m, W[i]) - T[i]).norm(), 1e-10);
+    for (size_t i = 0; i < W.size(); ++i) {
+      EXPECT_LT((vcgext::quad::VertexLimit(m, W[i]) - T[i]).norm(), 1e-10);
+    }
     for (int v = 0; v < m.NumVertexSlots(); ++v) {
-      if (v % 3 != 0) EXPECT_EQ(m.P[v], frozen[v]);
+      if (v % 3 != 0) {
+        EXPECT_EQ(m.P[v], frozen[v]);
+      }
     }
   }
 }

@@ -304,6 +304,39 @@ OpResult QuadMesh::RemoveDoublet(int v) {
   return r;
 }
 
+OpResult QuadMesh::RemoveBoundaryCorner(int b, int* survivor, int keep) {
+  if (b < 0 || b >= int(P.size()) || !vertAlive_[b]) return OpResult::DeadElement;
+  if (!boundary_[b] || vf_[b].size() != 1) return OpResult::NotDoublet;
+  const int f = vf_[b][0], k = CornerOf(f, b);
+  int c = F[f][(k + 1) & 3], d = F[f][(k + 2) & 3], a = F[f][(k + 3) & 3];
+  if (!boundary_[a] || !boundary_[c]) return OpResult::NonManifold;
+  if (keep == 2) std::swap(a, c);  // survivor = c (index and position)
+  const size_t fm = fj_.size(), vm = vj_.size();
+  SaveFace(f);
+  SaveVert(a); SaveVert(b); SaveVert(c); SaveVert(d);
+  KillFace(f);
+  vertAlive_[b] = 0;
+  --nVerts_;
+  std::vector<int> moved = vf_[c];
+  for (int g : moved) {
+    SaveFace(g);
+    for (int j = 0; j < 4; ++j)
+      if (F[g][j] == c) F[g][j] = a;
+    vf_[a].push_back(g);
+  }
+  vf_[c].clear();
+  vertAlive_[c] = 0;
+  --nVerts_;
+  if (keep == 0) P[a] = 0.5 * (P[a] + P[c]);
+  std::vector<int> check{a, d};
+  for (int g : vf_[a])
+    for (int j = 0; j < 4; ++j) check.push_back(F[g][j]);
+  OpResult r = LocalCheck(check, true);
+  EndOp(fm, vm, r == OpResult::Ok);
+  if (r == OpResult::Ok && survivor) *survivor = a;
+  return r;
+}
+
 // ---------------------------------------------------------------------------- validity
 namespace {
 struct DSU {

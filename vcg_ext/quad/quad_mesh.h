@@ -31,6 +31,7 @@ enum class OpResult {
   BoundaryMerge,      ///< would merge two boundary vertices (changes boundary loops)
   BoundaryEdge,       ///< edge swap on a boundary edge
   NotDoublet,         ///< doublet removal on a vertex that is not an interior valence-2 vertex
+                      ///< (or boundary-corner removal on a vertex that is not a one-face boundary vertex)
   Degenerate,         ///< would create a face with a repeated vertex
   NonManifold,        ///< would create a non-manifold edge or vertex (link condition)
   LowValence,         ///< would leave an interior vertex with valence < 3 or a boundary vertex without faces
@@ -83,6 +84,15 @@ class QuadMesh {
   OpResult SwapEdge(int f, int k, int variant);
   /// Merges the two faces of an interior valence-2 vertex v (doublet) and removes v.
   OpResult RemoveDoublet(int v);
+  /// Boundary counterpart of doublet removal (decision, see docs/quad.md): a boundary vertex b
+  /// with a single face (a, b, c, d) (boundary valence 2) is removed with that face and its two
+  /// boundary neighbours a, c are merged (at their midpoint): the boundary loses two vertices,
+  /// Euler characteristic and boundary loops are unchanged. Diagonal collapses alone can never
+  /// reduce the number of boundary vertices (merging two boundary vertices across a face would
+  /// pinch the surface), so this is what lets open boundaries coarsen.
+  /// `keep`: 0 = survivor a at the midpoint of a and c, 1 = survivor a at its position,
+  /// 2 = survivor c at its position.
+  OpResult RemoveBoundaryCorner(int b, int* survivor = nullptr, int keep = 0);
   /// Valence energy sum |D(v) - regular(v)| over the distinct corners of faces f and g.
   int ValenceEnergy(int f, int g) const;
   /// Energy change of SwapEdge(f, k, variant) without applying it (positive = worse);

@@ -1,5 +1,7 @@
 #include "vcg_ext/quad/quad_simplify.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -103,13 +105,36 @@ class Simplifier {
     for (const auto& f : in.F)
       for (int k = 0; k < 3; ++k)
         if (!he.count(key(f[(k + 1) % 3], f[k]))) bseg_.push_back({f[k], f[(k + 1) % 3]});
+    // sharp corners of the input boundary (turn > boundaryCornerAngleDeg) are pinned
+    pinned_.assign(in.V.size(), 0);
+    std::vector<int> bnext(in.V.size(), -1), bprev(in.V.size(), -1);
+    for (auto& [a, b] : bseg_) { bnext[a] = b; bprev[b] = a; }
+    const double cmin = std::cos(p.boundaryCornerAngleDeg * M_PI / 180.0);
+    for (size_t v = 0; v < in.V.size(); ++v) {
+      if (bnext[v] < 0 || bprev[v] < 0) continue;
+      Vec3 e1 = in.V[v] - in.V[bprev[v]], e2 = in.V[bnext[v]] - in.V[v];
+      if (e1.dot(e2) < cmin * e1.norm() * e2.norm()) pinned_[v] = 1;
+    }
   }
+  bool Pinned(int v) const { return v < int(pinned_.size()) && pinned_[v]; }
 
   QuadMesh K;
 
   // projection phi along the line (either side) with fallback to nothing
+  // Nearest hit on the line through c along +-n within maxDist_. Both rays start a hair behind c
+  // so that a surface passing exactly through c (flat regions) is found reliably.
+  EmbreeScene::Hit LineHit(const Vec3& c, const Vec3& n) const {
+    const double eps = 1e-7 * diag_;
+    EmbreeScene::Hit f = scene_.Intersect(c - eps * n, n, 0.0, maxDist_ + eps);
+    EmbreeScene::Hit b = scene_.Intersect(c + eps * n, -n, 0.0, maxDist_ + eps);
+    if (f.valid) f.t -= eps;
+    if (b.valid) b.t = -(b.t - eps);
+    if (f.valid && b.valid) return std::abs(f.t) <= std::abs(b.t) ? f : b;
+    return f.valid ? f : b;
+  }
+
   bool Project(const Vec3& c, const Vec3& n, FaceInfo* fi, Vec3* point) const {
-    EmbreeScene::Hit h = scene_.IntersectLine(c, n, maxDist_);
+    EmbreeScene::Hit h = LineHit(c, n);
     if (!h.valid) return false;
     const Tri& t = in_.F[h.face];
     double w0 = 1.0 - h.u - h.v;
@@ -140,6 +165,15 @@ class Simplifier {
     return fi;
   }
 
+  // interior vertex: its limit normal agrees with the input normal where it projects
+  bool VertexOk(int v) const {
+    if (!K.VertAlive(v) || K.IsBoundary(v)) return true;
+    Vec3 pos, n;
+    if (!quad::VertexLimitFrame(K, v, &pos, &n)) return false;
+    EmbreeScene::Hit h = LineHit(pos, n);
+    return h.valid && FN_[h.face].dot(n) > 0;
+  }
+
   Vec3 BoundaryTarget(const Vec3& p) const {
     double best = std::numeric_limits<double>::infinity();
     Vec3 q = p;
@@ -156,6 +190,7 @@ class Simplifier {
   }
 
   Vec3 VertexTarget(int v) const {
+    if (Pinned(v)) return in_.V[v];
     if (K.IsBoundary(v)) return BoundaryTarget(quad::VertexLimit(K, v));
     Vec3 pos, n;
     if (!quad::VertexLimitFrame(K, v, &pos, &n)) return quad::VertexLimit(K, v);
@@ -163,6 +198,19 @@ class Simplifier {
     if (Project(pos, n, nullptr, &hit)) return hit;
     EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
     return h.valid ? h.point : pos;
+  }
+
+  // Final pass: every control point re-interpolates the projection of its limit point (one
+  // global solve), so all limit vertices lie on the input again (the local fits perturb the
+  // 2-ring of each step, §3.4).
+  quad::InterpolationStats Reinterpolate() {
+    std::vector<Vec3> targets(K.NumVertexSlots(), Vec3::Zero());
+    std::vector<int> alive;
+    for (int v = 0; v < K.NumVertexSlots(); ++v)
+      if (K.VertAlive(v)) alive.push_back(v);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (long i = 0; i < long(alive.size()); ++i) targets[alive[i]] = VertexTarget(alive[i]);
+    return quad::SolveInterpolationGlobal(K, targets, tol_);
   }
 
   double Cost(int f, int k, const FaceInfo& fi) const {
@@ -223,7 +271,9 @@ class Simplifier {
       for (size_t i = 0; i < W.size(); ++i) {
         int v = W[i];
         Vec3 avg = Vec3::Zero();
-        if (K.IsBoundary(v)) {
+        if (Pinned(v)) {
+          avg = K.P[v];
+        } else if (K.IsBoundary(v)) {
           K.Fan(v, fan);
           avg = 0.5 * (K.P[fan.front().p] + K.P[fan.back().n]);
         } else {
@@ -247,21 +297,35 @@ class Simplifier {
     OpResult r = K.CollapseDiagonal(f, k, &s);
     if (r != OpResult::Ok) { K.Rollback(); return 1; }
     std::vector<int> affected{s, b, d};
-    int doublets = 0, swaps = 0;
-    // immediate doublet removal (cascading)
-    std::vector<int> dq{b, d};
-    while (!dq.empty()) {
+    int doublets = 0, swaps = 0, corners = 0;
+    // immediate doublet removal (cascading); boundary corners on flat stretches of the boundary
+    // are removed likewise (RemoveBoundaryCorner), which is what coarsens open boundaries
+    std::vector<int> dq{b, d, s};
+    int guard = 0;
+    while (!dq.empty() && ++guard < 1000) {
       int v = dq.back();
       dq.pop_back();
-      if (!K.VertAlive(v) || K.IsBoundary(v) || K.VF(v).size() != 2) continue;
-      int f1 = K.VF(v)[0], k1 = K.CornerOf(f1, v);
-      int na = K.F[f1][(k1 + 1) & 3], nb = K.F[f1][(k1 + 3) & 3];
-      if (K.RemoveDoublet(v) != OpResult::Ok) { K.Rollback(); return 1; }
-      ++doublets;
-      dq.push_back(na);
-      dq.push_back(nb);
-      affected.push_back(na);
-      affected.push_back(nb);
+      if (!K.VertAlive(v) || K.VF(v).size() > 2) continue;
+      if (!K.IsBoundary(v) && K.VF(v).size() == 2) {
+        int f1 = K.VF(v)[0], k1 = K.CornerOf(f1, v);
+        int na = K.F[f1][(k1 + 1) & 3], nb = K.F[f1][(k1 + 3) & 3];
+        if (K.RemoveDoublet(v) != OpResult::Ok) { K.Rollback(); return 1; }
+        ++doublets;
+        for (int x : {na, nb}) { dq.push_back(x); affected.push_back(x); }
+      } else if (K.IsBoundary(v) && K.VF(v).size() == 1 && p_.boundaryCornerAngleDeg > 0) {
+        int f1 = K.VF(v)[0], k1 = K.CornerOf(f1, v);
+        int c = K.F[f1][(k1 + 1) & 3], o = K.F[f1][(k1 + 2) & 3], a = K.F[f1][(k1 + 3) & 3];
+        Vec3 e1 = K.P[v] - K.P[a], e2 = K.P[c] - K.P[v];
+        double cosTurn = e1.dot(e2) / std::max(1e-300, e1.norm() * e2.norm());
+        if (cosTurn < std::cos(p_.boundaryCornerAngleDeg * M_PI / 180.0)) continue;
+        // pinned input corners survive (index and position)
+        if (Pinned(v) || (Pinned(a) && Pinned(c))) continue;
+        int keep = Pinned(a) ? 1 : Pinned(c) ? 2 : 0;
+        int surv = -1;
+        if (K.RemoveBoundaryCorner(v, &surv, keep) != OpResult::Ok) continue;  // allowed to stay
+        ++corners;
+        for (int x : {surv, o}) { dq.push_back(x); affected.push_back(x); }
+      }
     }
     // edge swaps in the 1-ring of the collapsed element
     if (p_.edgeSwaps && K.VertAlive(s)) {
@@ -306,14 +370,23 @@ class Simplifier {
       badBefore += info_[region_[i]].ok ? 0 : 1;
       badAfter += newInfo_[i].ok ? 0 : 1;
     }
+    // limit normals at the vertices of W as well (closed form, interior vertices)
+    newVok_.resize(W.size());
+    for (size_t i = 0; i < W.size(); ++i) {
+      newVok_[i] = VertexOk(W[i]);
+      badBefore += vok_[W[i]] ? 0 : 1;
+      badAfter += newVok_[i] ? 0 : 1;
+    }
     if (badAfter > 0 && badAfter >= badBefore) { K.Rollback(); return 2; }
     K.Commit();
     for (size_t i = 0; i < region_.size(); ++i) info_[region_[i]] = newInfo_[i];
+    for (size_t i = 0; i < W.size(); ++i) vok_[W[i]] = newVok_[i];
     // re-queue faces whose cost may have changed
     for (int g : region_) Push(g);
     res_.collapses++;
     res_.doublets += doublets;
     res_.swaps += swaps;
+    res_.boundaryCorners += corners;
     return 0;
   }
 
@@ -328,6 +401,9 @@ class Simplifier {
       if (K.FaceAlive(f)) alive.push_back(f);
 #pragma omp parallel for schedule(dynamic, 256)
     for (long i = 0; i < long(alive.size()); ++i) info_[alive[i]] = EvalFace(alive[i]);
+    vok_.assign(nv, 1);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v) ? 1 : 0;
     for (int f : alive) Push(f);
     QuadMesh::Invariants inv;
     if (p_.validateEveryOperation) inv = K.ComputeInvariants();
@@ -360,6 +436,12 @@ class Simplifier {
       if (K.FaceAlive(f) && !EvalFace(f).ok) ++bad;
     return bad;
   }
+  int CountFlippedVertices() const {
+    int bad = 0;
+    for (int v = 0; v < K.NumVertexSlots(); ++v)
+      if (K.VertAlive(v) && !VertexOk(v)) ++bad;
+    return bad;
+  }
 
  private:
   struct Entry {
@@ -377,7 +459,9 @@ class Simplifier {
   double diag_ = 1, maxDist_ = 1, tol_ = 1e-9;
   std::vector<Vec3> FN_;
   std::vector<std::pair<int, int>> bseg_;
+  std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
   std::vector<FaceInfo> info_, newInfo_;
+  std::vector<char> vok_, newVok_;
   std::vector<unsigned> stamp_;
   std::vector<unsigned> fmarkOf_, vmarkOf_;
   unsigned fmark_ = 0, vmark_ = 0;
@@ -458,8 +542,10 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     if (!sim.Run(cb)) return res;
     if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
   }
+  if (params.finalReinterpolation && res.collapses > 0) sim.Reinterpolate();
   res.secondsSimplify = Since(t2);
   res.flippedPatches = sim.CountFlipped();
+  res.flippedVertices = sim.CountFlippedVertices();
   res.quads = sim.K.ToQuadData();
   res.patches = sim.K.NumFaces();
   res.valenceHistogram = sim.K.ValenceHistogram(&res.irregularVertices);

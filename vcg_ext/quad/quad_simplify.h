@@ -41,6 +41,8 @@ struct QuadSimplifyParams {
   double solveTolPercent = 1e-5;  ///< interpolation solve tolerance, % of the bbox diagonal (absolute residual)
   int localSolveIterations = 30;  ///< max Gauss-Seidel sweeps of the local solve
   double projectionPercent = 10.0;  ///< max ray length of the projection phi, % of the bbox diagonal
+  double boundaryCornerAngleDeg = 45;  ///< remove one-face boundary vertices where the boundary turns less than this (0 = never)
+  bool finalReinterpolation = true;  ///< one global solve at the end: all limit vertices back onto the input
   bool validateEveryOperation = false;  ///< test mode: full validity check after every step (O(F) each)
   quad::TriToQuadParams triToQuad;
 };
@@ -57,10 +59,12 @@ struct QuadSimplifyResult {
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
+  int boundaryCorners = 0;        ///< boundary corner removals (open boundaries)
   int rejectedByM = 0;            ///< collapses refused by the M-fitmap test
   int rejectedTopology = 0;       ///< refused by the operators (link condition, boundary, valence)
   int rejectedFlip = 0;           ///< undone because a patch flipped against the input / left it
   int flippedPatches = 0;         ///< final patches whose centre normal disagrees with the input (or miss it)
+  int flippedVertices = 0;        ///< final interior vertices whose limit normal disagrees likewise
   double initialSolveResidual = 0;  ///< max |limit - input vertex| after the global solve (absolute)
   int initialSolveIterations = 0;
   double secondsTriToQuad = 0, secondsInitialFit = 0, secondsSimplify = 0, secondsTotal = 0;

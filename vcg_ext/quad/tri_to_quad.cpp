@@ -1,5 +1,9 @@
 #include "vcg_ext/quad/tri_to_quad.h"
 
+#include "vcg_ext/quad/quad_mesh.h"
+
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +23,8 @@ const char* ToString(TriToQuadPath p) {
 }
 
 namespace {
+using quad::OpResult;
+using quad::QuadMesh;
 std::uint64_t Key(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
 
 // Twin of each triangle half-edge (t*3+k from corner k to k+1), -1 if none / non-manifold.
@@ -100,23 +106,6 @@ TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
   std::vector<Tri> F = m.F;
   if (F.empty()) { res.error = "no triangles"; return res; }
   std::vector<int> twin = TriTwins(F);
-  if (F.size() % 2 == 1) {
-    // split one triangle at its boundary edge's midpoint (first boundary half-edge found)
-    int h = -1;
-    for (size_t i = 0; i < twin.size() && h < 0; ++i)
-      if (twin[i] < 0) h = int(i);
-    if (h >= 0) {
-      int t = h / 3, k = h % 3;
-      int a = F[t][k], b = F[t][(k + 1) % 3], c = F[t][(k + 2) % 3];
-      V.push_back(0.5 * (V[a] + V[b]));
-      int mm = int(V.size()) - 1;
-      F[t] = {a, mm, c};
-      F.push_back({mm, b, c});
-      twin = TriTwins(F);
-      res.path = TriToQuadPath::PairingBoundarySplit;
-      res.addedVertices = 1;
-    }
-  }
   const int nt = int(F.size());
   std::vector<int> mate(nt, -1), mateHe(nt, -1);  // mateHe: half-edge of t shared with its mate
   // 1. greedy
@@ -134,6 +123,7 @@ TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
     ++res.greedyPairs;
   }
   // 2. augmenting paths (BFS over alternating paths, bounded)
+  std::vector<Quad> splitQuads;
   std::vector<int> prevEven(nt, -1), via(nt, -1), viaHe(nt, -1), seen(nt, 0);
   int stampv = 0;
   for (int pass = 0; pass < p.maxAugmentPasses; ++pass) {
@@ -178,16 +168,80 @@ TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
     }
     if (gained == 0 || left == gained) break;
   }
+  // 3. leftovers (odd counts, or blocked pairings on open meshes): shift the free slot along an
+  // alternating path to a triangle with a boundary edge and split that one at the edge midpoint
+  // into two paired halves (a quad with a flat corner at a new boundary vertex of valence 2).
+  std::vector<int> splitAtBoundary;  // half-edges (boundary) of triangles to split
+  for (int root = 0; root < nt; ++root) {
+    if (mate[root] >= 0) continue;
+    ++stampv;
+    std::vector<int> queue{root};
+    seen[root] = stampv;
+    int z = -1, zh = -1;
+    for (size_t qi = 0; qi < queue.size() && z < 0 && queue.size() < 20000; ++qi) {
+      int x = queue[qi];
+      for (int k = 0; k < 3; ++k)
+        if (twin[x * 3 + k] < 0) { z = x; zh = x * 3 + k; break; }
+      if (z >= 0) break;
+      for (int k = 0; k < 3; ++k) {
+        int h = x * 3 + k, th = twin[h];
+        if (th < 0) continue;
+        int y = th / 3;
+        if (seen[y] == stampv || mate[y] < 0) continue;
+        int zz = mate[y];
+        if (seen[zz] == stampv) continue;
+        seen[y] = stampv;
+        seen[zz] = stampv;
+        prevEven[zz] = x;
+        via[zz] = y;
+        viaHe[zz] = h;
+        queue.push_back(zz);
+      }
+    }
+    if (z < 0) continue;
+    int x = z;
+    mate[z] = -2;  // reserved for a boundary split
+    while (x != root) {
+      int y = via[x], px = prevEven[x], h = viaHe[x];
+      mate[px] = y; mate[y] = px;
+      mateHe[px] = h; mateHe[y] = twin[h];
+      x = px;
+    }
+    splitAtBoundary.push_back(zh);
+  }
+  for (int h : splitAtBoundary) {
+    int t = h / 3, k = h % 3;
+    int a = F[t][k], b = F[t][(k + 1) % 3], c = F[t][(k + 2) % 3];
+    V.push_back(0.5 * (V[a] + V[b]));
+    int mm = int(V.size()) - 1;
+    // halves (a, mm, c) and (mm, b, c) paired across mm-c: quad (a, mm, b, c)
+    splitQuads.push_back({a, mm, b, c});
+    res.path = TriToQuadPath::PairingBoundarySplit;
+    ++res.addedVertices;
+    ++res.boundarySplits;
+  }
   std::vector<Quad> quads;
   std::vector<Tri> lone;
   for (int t = 0; t < nt; ++t) {
+    if (mate[t] == -2) continue;  // split at the boundary above
     if (mate[t] < 0) { lone.push_back(F[t]); continue; }
     if (t < mate[t]) quads.push_back(PairQuad(F, mateHe[t], mateHe[mate[t]]));
   }
+  quads.insert(quads.end(), splitQuads.begin(), splitQuads.end());
   res.unpairedTriangles = int(lone.size());
   if (lone.empty()) {
+    // pairing can leave interior vertices in only two quads (doublets): merge them
+    QuadMesh qm(V, quads);
+    for (int pass = 0; pass < 4; ++pass) {
+      int removed = 0;
+      for (int v = 0; v < qm.NumVertexSlots(); ++v)
+        if (qm.VertAlive(v) && !qm.IsBoundary(v) && qm.Valence(v) == 2 && qm.RemoveDoublet(v) == OpResult::Ok) ++removed;
+      res.doubletsRemoved += removed;
+      if (!removed) break;
+    }
     res.quads.V = std::move(V);
-    res.quads.F = std::move(quads);
+    for (int f = 0; f < qm.NumFaceSlots(); ++f)
+      if (qm.FaceAlive(f)) res.quads.F.push_back(qm.F[f]);
     return res;
   }
   if (!p.allowSplitFallback) {

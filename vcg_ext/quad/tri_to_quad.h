@@ -5,8 +5,11 @@
 ///  1. greedy pairing by quad quality (best first: corner angles near 90 degrees, planar);
 ///  2. augmenting alternating paths to pair the leftovers (the dual of a closed triangle mesh is
 ///     a bridgeless cubic graph, which has a perfect matching by Petersen's theorem);
-///  3. an odd number of triangles (only possible with boundaries) is made even first by
-///     splitting one boundary triangle at the midpoint of its boundary edge (one new vertex);
+///  3. triangles still unpaired (odd counts, only possible with boundaries; blocked pairings)
+///     move along an alternating path to a triangle with a boundary edge, which is split at the
+///     edge midpoint into two paired halves (one new boundary vertex of valence 2 per split);
+///     interior vertices left in only two quads (doublets) are then merged away (the vertex
+///     stays in V, unreferenced);
 ///  4. fallback when pairing still leaves triangles: every paired quad is split into 4 quads and
 ///     every triangle into 3 (new edge-midpoint and face-centre vertices): always pure quads.
 #include <string>
@@ -20,7 +23,7 @@ namespace quad {
 enum class TriToQuadPath {
   AlreadyQuads,       ///< the caller's quads were used as they are
   Pairing,            ///< every triangle paired (greedy + augmenting paths), same vertices
-  PairingBoundarySplit,  ///< as Pairing after splitting one boundary triangle (odd count)
+  PairingBoundarySplit,  ///< as Pairing, with some boundary triangles split (odd count / leftovers)
   SplitAll,           ///< pairing failed for some triangles: all faces split (more vertices)
 };
 const char* ToString(TriToQuadPath p);
@@ -38,6 +41,8 @@ struct TriToQuadResult {
   int augmentedPairs = 0;    ///< pairs added by augmenting paths
   int unpairedTriangles = 0; ///< triangles left after pairing (0 unless SplitAll)
   int addedVertices = 0;
+  int boundarySplits = 0;    ///< boundary triangles split into two paired halves
+  int doubletsRemoved = 0;   ///< interior valence-2 vertices merged away after pairing
 };
 
 /// Converts `m` into pure quads. Preconditions: m is manifold and consistently oriented (checked
