@@ -87,7 +87,7 @@ TEST(LoopSurface, RegularGridIsBoxSplineOfPlane) {
     s.Evaluate(f, 0.3, 0.2, e);
     EXPECT_NEAR(e.P.z(), 0.0, 1e-14);
     // box-spline (incl. ghost-completed boundary) patches reproduce linear functions
-    if (s.FaceIsRegular(f)) EXPECT_NEAR(e.Dvv.norm() + e.Dww.norm() + e.Dvw.norm(), 0.0, 1e-10);
+    if (s.FaceIsRegular(f)) { EXPECT_NEAR(e.Dvv.norm() + e.Dww.norm() + e.Dvw.norm(), 0.0, 1e-10); }
   }
 }
 

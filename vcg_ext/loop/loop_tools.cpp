@@ -344,7 +344,7 @@ LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams&
   for (int i = 0; i < nV; ++i) {
     auto fc = s.VertexCorner(i);
     if (fc.first < 0) continue;
-    remap[i] = R.AddVertex(s.VertexLimit(i), fc.first, cv[fc.second][0], cv[fc.second][1]);
+    remap[i] = R.AddVertex(s.Position(fc.first, cv[fc.second][0], cv[fc.second][1]), fc.first, cv[fc.second][0], cv[fc.second][1]);
   }
   R.F.resize(nF);
   R.opp.resize(nF);
