@@ -35,7 +35,7 @@ void InitFitParams(MeshDocument& md, RichParameterList& par) {
   par.addParam(RichInt(param::kFitIterations, d.fit.maxIterations, "Fit iterations",
                        "Maximum project -> solve iterations of the least-squares fit."));
   par.addParam(RichString(param::kOutputDir, "", "Output folder",
-                          "Where displacement.png (+ .json), normal.png, control.obj (+ .mtl) and "
+                          "Where displacement.png (+ .json), normal.png, control.obj (+ .mtl), control.ply and "
                           "report.json are written. Empty: a folder <reference>_cc next to the "
                           "reference mesh file (or in the temporary folder)."));
 }
@@ -91,7 +91,8 @@ bool ApplyFit(GlueContext& ctx) {
                         vcgext::WriteAtlasJson(dir + "/displacement.json", r.atlas, "displacement.png",
                                                p.normalMap ? "normal.png" : ""),
                         vcgext::WriteQuadObj(dir + "/control.obj", r.fit.control, r.atlas.wedgeUV,
-                                             "displacement.png")})
+                                             "displacement.png"),
+                        vcgext::WriteQuadPly(dir + "/control.ply", r.fit.control)})
     if (!e.empty()) return ctx.Fail(e);
   StageTimes earlier = GetStageTimes(control.cm);
   err = vcgext::WriteReportJson(dir + "/report.json", r, earlier);
@@ -121,7 +122,7 @@ bool ApplyFit(GlueContext& ctx) {
 
   ctx.log(vcgext::FormatReport(r));
   ctx.log("Fit Catmull-Clark Surface: wrote displacement.png, displacement.json, " +
-          std::string(p.normalMap ? "normal.png, " : "") + "control.obj, report.json to " + dir);
+          std::string(p.normalMap ? "normal.png, " : "") + "control.obj (+ .mtl), control.ply, report.json to " + dir);
   return true;
 }
 

@@ -161,26 +161,36 @@ std::string WriteQuadObj(const std::string& path, const QuadData& q,
   return {};
 }
 
-std::string WritePlyWithQuality(const std::string& path, const TriData& m, const std::vector<double>* quality) {
-  const bool q = quality && quality->size() == m.V.size();
+namespace {
+// Binary little-endian PLY with polygon faces of N corners and optional per-vertex quality.
+template <size_t N>
+std::string WritePly(const std::string& path, const std::vector<Vec3>& V, const std::vector<std::array<int, N>>& F,
+                     const std::vector<double>* quality) {
+  const bool q = quality && quality->size() == V.size();
   std::ofstream o(path, std::ios::binary);
   if (!o) return "cannot open " + path + " for writing";
-  o << "ply\nformat binary_little_endian 1.0\nelement vertex " << m.V.size()
+  o << "ply\nformat binary_little_endian 1.0\nelement vertex " << V.size()
     << "\nproperty float x\nproperty float y\nproperty float z\n";
   if (q) o << "property float quality\n";
-  o << "element face " << m.F.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (size_t i = 0; i < m.V.size(); ++i) {
-    float b[4] = {float(m.V[i][0]), float(m.V[i][1]), float(m.V[i][2]), q ? float((*quality)[i]) : 0.f};
+  o << "element face " << F.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (size_t i = 0; i < V.size(); ++i) {
+    float b[4] = {float(V[i][0]), float(V[i][1]), float(V[i][2]), q ? float((*quality)[i]) : 0.f};
     o.write(reinterpret_cast<const char*>(b), q ? 16 : 12);
   }
-  for (const auto& f : m.F) {
-    unsigned char n = 3;
+  for (const auto& f : F) {
+    unsigned char n = static_cast<unsigned char>(N);
     o.write(reinterpret_cast<const char*>(&n), 1);
-    int idx[3] = {f[0], f[1], f[2]};
-    o.write(reinterpret_cast<const char*>(idx), 12);
+    o.write(reinterpret_cast<const char*>(f.data()), sizeof(int) * N);
   }
   return o ? "" : "write error on " + path;
 }
+}  // namespace
+
+std::string WritePlyWithQuality(const std::string& path, const TriData& m, const std::vector<double>* quality) {
+  return WritePly(path, m.V, m.F, quality);
+}
+
+std::string WriteQuadPly(const std::string& path, const QuadData& q) { return WritePly(path, q.V, q.F, nullptr); }
 
 std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::string, double>>& extraTimes) {
   std::ostringstream o;

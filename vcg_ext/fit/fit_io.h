@@ -32,6 +32,11 @@ std::string WriteAtlasJson(const std::string& path, const DisplacementAtlas& a, 
 std::string WriteQuadObj(const std::string& path, const QuadData& q,
                          const std::vector<std::array<Eigen::Vector2d, 4>>& wedgeUV, const std::string& texture);
 
+/// Binary little-endian PLY with real quad faces: MeshLab opens it as a quad layer (faux-edge
+/// triangle pairs). Debian's MeshLab 2020.09 aborts on every OBJ file (an assertion in vcglib's
+/// OBJ importer), so this is the control-mesh format to open in MeshLab; the OBJ is for others.
+std::string WriteQuadPly(const std::string& path, const QuadData& q);
+
 /// Binary little-endian PLY of a triangle mesh with optional per-vertex `quality` (float).
 std::string WritePlyWithQuality(const std::string& path, const TriData& m, const std::vector<double>* quality);
 

@@ -1,0 +1,104 @@
+// fit_and_bake.mlx end to end: a quad control mesh made by "another tool" (a cube-sphere OBJ
+// written here) is fitted to a dense sphere; the fit must be close to the analytic sphere.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+
+#include "e2e_support.h"
+#include "test_support.h"
+#include "vcg_ext/fit/fit_io.h"
+#include "vcg_ext/io/mesh_io.h"
+
+namespace {
+
+// Cube with n×n quads per side, projected to the unit sphere (counter-clockwise from outside).
+vcgext::QuadData CubeSphere(int n) {
+  vcgext::QuadData q;
+  std::map<std::array<long, 3>, int> ids;
+  auto vid = [&](const vcgext::Vec3& p) {
+    std::array<long, 3> key{std::lround(p[0] * 1e6), std::lround(p[1] * 1e6), std::lround(p[2] * 1e6)};
+    auto it = ids.find(key);
+    if (it != ids.end()) return it->second;
+    q.V.push_back(p.normalized());
+    return ids[key] = int(q.V.size()) - 1;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+      vcgext::Vec3 nrm = vcgext::Vec3::Zero();
+      nrm[axis] = sgn;
+      vcgext::Vec3 a = vcgext::Vec3::Zero(), b = vcgext::Vec3::Zero();
+      a[(axis + 1) % 3] = 1;
+      b[(axis + 2) % 3] = 1;
+      if (sgn < 0) std::swap(a, b);
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          auto P = [&](int ii, int jj) { return vcgext::Vec3(nrm + a * (2.0 * ii / n - 1) + b * (2.0 * jj / n - 1)); };
+          q.F.push_back({vid(P(i, j)), vid(P(i + 1, j)), vid(P(i + 1, j + 1)), vid(P(i, j + 1))});
+        }
+    }
+  return q;
+}
+
+double JsonNumber(const std::string& json, const std::string& key) {
+  std::smatch m;
+  std::regex re("\"" + key + "\"\\s*:\\s*([-0-9.eE+]+)");
+  if (!std::regex_search(json, m, re)) return NAN;
+  return std::stod(m[1]);
+}
+
+TEST(MlxScripts, FitAndBakeFitsForeignQuadMeshToSphere) {
+  const std::string dir = e2e::OutPath("fit_sphere");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::TMesh ref;
+  testsupport::ToVcg(testsupport::Icosphere(5), ref);  // 10242 vertices on the unit sphere
+  ASSERT_EQ(vcgext::SaveMesh(dir + "/sphere.off", ref), "");
+  auto cube = CubeSphere(4);  // 96 quads, 8 valence-3 vertices
+  ASSERT_EQ(vcgext::WriteQuadPly(dir + "/control.ply", cube), "");  // MeshLab 2020.09 cannot read OBJ
+
+  auto r = e2e::Meshlabserver("-i " + e2e::Q(dir + "/sphere.off") + " -i " + e2e::Q(dir + "/control.ply") +
+                              " -o " + e2e::Q(dir + "/limit.ply") + " -l 3 -m vq vc -s " +
+                              e2e::Q(e2e::Script("fit_and_bake.mlx")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  // Files land in <reference>_cc next to the reference.
+  std::ifstream rep(dir + "/sphere_cc/report.json");
+  ASSERT_TRUE(rep.good()) << r.output;
+  std::string json((std::istreambuf_iterator<char>(rep)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(JsonNumber(json, "patches"), 96);
+  EXPECT_EQ(JsonNumber(json, "irregular_vertices"), 8);
+  // A 96-patch Catmull-Clark surface approximates the sphere to well under 1‰ of the diagonal
+  // (radial error of the cubic B-spline patches); a broken fit (e.g. no fit at all: the
+  // control net's limit shrinks by ~3%) is far above that.
+  EXPECT_LT(JsonNumber(json, "rms_limit_permille"), 1.0) << json;
+  EXPECT_LT(JsonNumber(json, "unprojectable_pct"), 0.5) << json;
+  for (const char* f : {"displacement.png", "displacement.json", "control.obj", "control.mtl"})
+    EXPECT_TRUE(std::ifstream(dir + "/sphere_cc/" + f).good()) << f;
+  // The limit layer (position 3) lies on the unit sphere; its quality is the signed distance.
+  vcgext::TMesh lim;
+  ASSERT_EQ(vcgext::LoadMesh(dir + "/limit.ply", lim), "");
+  EXPECT_EQ(lim.vn, 96 * 8 * 8 + 2);  // welded 8×8 tessellation of a closed genus-0 mesh
+  double worst = 0;
+  for (const auto& v : lim.vert) {
+    double rr = vcgext::Vec3(v.cP()[0], v.cP()[1], v.cP()[2]).norm();
+    worst = std::max(worst, std::abs(rr - 1.0));
+    EXPECT_LT(std::abs(v.cQ()), 0.01);
+  }
+  EXPECT_LT(worst, 0.01);
+}
+
+TEST(MlxScripts, FitAndBakeRejectsTriangleControlLayer) {
+  const std::string dir = e2e::OutPath("fit_bad");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::TMesh ref;
+  testsupport::ToVcg(testsupport::Icosphere(3), ref);
+  ASSERT_EQ(vcgext::SaveMesh(dir + "/a.off", ref), "");
+  ASSERT_EQ(vcgext::SaveMesh(dir + "/b.off", ref), "");
+  auto r = e2e::Meshlabserver("-i " + e2e::Q(dir + "/a.off") + " -i " + e2e::Q(dir + "/b.off") +
+                              " -o " + e2e::Q(dir + "/out.ply") + " -s " + e2e::Q(e2e::Script("fit_and_bake.mlx")));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("not pure-quad"), std::string::npos) << r.output;
+}
+
+}  // namespace
