@@ -29,6 +29,24 @@ const FilterSpec kFilters[] = {
      "optionally normal.png, and report.json (patches, irregular vertices, unprojectable area, "
      "RMS/max errors in 1/1000 of the bbox diagonal, times, peak memory) to the output folder.",
      MeshFilterInterface::Remeshing | MeshFilterInterface::Polygonal | MeshFilterInterface::Texture},
+    {FP_LOOP_REFINE, "Loop Surrogate: Refine Surface",
+     "Treats the current triangle layer as the control net of a Loop subdivision surface (hard "
+     "edges by dihedral angle and/or edge selection, C2 crease curves, fixed corners; Persson "
+     "et al.) and meshes its exact limit surface into a new layer: uniform or curvature-adaptive "
+     "refinement by centroid insertion and max-min angle edge swaps, every vertex on the limit "
+     "surface. Optionally the control net is first made interpolating (the limit surface passes "
+     "through the original vertices).",
+     MeshFilterInterface::Remeshing},
+    {FP_LOOP_SNAP, "Loop Surrogate: Snap Points",
+     "Moves every vertex of the current layer to the closest point of the Loop limit surface of "
+     "another triangle layer (Newton iteration across control triangles, with a robust "
+     "fallback). The distance moved is stored in the vertex quality.",
+     MeshFilterInterface::Remeshing | MeshFilterInterface::PointSet},
+    {FP_LOOP_CURVATURE, "Loop Surrogate: Curvature",
+     "Per-vertex quality = a curvature (mean, Gaussian, max absolute, min or max principal) of "
+     "the exact Loop limit surface of the current triangle layer at each vertex's limit point, "
+     "colour-mapped.",
+     MeshFilterInterface::Quality | MeshFilterInterface::VertexColoring},
 };
 
 const FilterSpec* Spec(int id) {
@@ -74,7 +92,12 @@ int FilterFitmapQuadPlugin::postCondition(QAction* a) const {
     case FP_COMPUTE_FITMAPS:
       return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
     case FP_FIT_AND_BAKE:
+    case FP_LOOP_REFINE:
       return MeshModel::MM_NONE;  // the input layers are not modified; new layers are added
+    case FP_LOOP_SNAP:
+      return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTQUALITY;
+    case FP_LOOP_CURVATURE:
+      return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
   }
   return MeshModel::MM_ALL;
 }
@@ -83,6 +106,9 @@ void FilterFitmapQuadPlugin::initParameterSet(QAction* a, MeshDocument& md, Rich
   switch (ID(a)) {
     case FP_COMPUTE_FITMAPS: InitFitmapsParams(md, par); break;
     case FP_FIT_AND_BAKE: InitFitParams(md, par); break;
+    case FP_LOOP_REFINE: InitLoopRefineParams(md, par); break;
+    case FP_LOOP_SNAP: InitLoopSnapParams(md, par); break;
+    case FP_LOOP_CURVATURE: InitLoopCurvatureParams(md, par); break;
   }
 }
 
@@ -98,6 +124,9 @@ bool FilterFitmapQuadPlugin::applyFilter(QAction* a, MeshDocument& md, const Ric
     switch (ID(a)) {
       case FP_COMPUTE_FITMAPS: return ApplyFitmaps(ctx);
       case FP_FIT_AND_BAKE: return ApplyFit(ctx);
+      case FP_LOOP_REFINE: return ApplyLoopRefine(ctx);
+      case FP_LOOP_SNAP: return ApplyLoopSnap(ctx);
+      case FP_LOOP_CURVATURE: return ApplyLoopCurvature(ctx);
     }
   } catch (const std::exception& e) {
     return ctx.Fail(std::string("internal error: ") + e.what());

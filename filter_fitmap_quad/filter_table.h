@@ -39,6 +39,14 @@ inline const char* kNormalMap = "normalMap";              ///< bool
 inline const char* kMaxDistPerc = "maxDistPerc";          ///< float, % of bbox diagonal
 inline const char* kFitIterations = "fitIterations";      ///< int
 inline const char* kOutputDir = "outputDir";              ///< string, folder for textures/OBJ/report
+// Loop Surrogate filters
+inline const char* kCreaseAngle = "creaseAngle";          ///< float, degrees (0 = no dihedral test)
+inline const char* kUseEdgeSelection = "useEdgeSelection";  ///< bool: selected edges are hard too
+inline const char* kRefineMode = "refineMode";            ///< enum: 0 = adaptive, 1 = uniform
+inline const char* kInterpolate = "interpolate";          ///< bool
+inline const char* kTargetFaces = "targetFaces";          ///< int
+inline const char* kSurfaceMesh = "surfaceMesh";          ///< mesh: the control net to snap onto
+inline const char* kCurvatureKind = "curvatureKind";      ///< enum: mean, Gaussian, max |k|, min, max
 }  // namespace param
 
 }  // namespace fitmapquad

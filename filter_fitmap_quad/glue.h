@@ -38,5 +38,12 @@ bool ApplyFitmaps(GlueContext& ctx);
 // Fit Catmull-Clark Surface and Bake Displacement (glue_fit.cpp)
 void InitFitParams(MeshDocument& md, RichParameterList& par);
 bool ApplyFit(GlueContext& ctx);
+// Loop Surrogate: Refine Surface / Snap Points / Curvature (glue_loop.cpp)
+void InitLoopRefineParams(MeshDocument& md, RichParameterList& par);
+bool ApplyLoopRefine(GlueContext& ctx);
+void InitLoopSnapParams(MeshDocument& md, RichParameterList& par);
+bool ApplyLoopSnap(GlueContext& ctx);
+void InitLoopCurvatureParams(MeshDocument& md, RichParameterList& par);
+bool ApplyLoopCurvature(GlueContext& ctx);
 
 }  // namespace fitmapquad
