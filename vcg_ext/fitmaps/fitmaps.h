@@ -16,29 +16,75 @@
 namespace vcgext {
 
 /// Parameters of ComputeFitmaps. Lengths are relative to the bounding-box diagonal where noted.
+/// Decisions where the paper is ambiguous are listed in docs/fitmaps.md.
 struct FitmapParams {
   enum class Mode {
-    Fast,       ///< bounded work per vertex (default); agreement with Reference in README
+    Fast,       ///< bounded work per vertex (default); agreement with Reference in docs/fitmaps.md
     Reference,  ///< the paper's literal O(n·|B|) computation (slow: minutes on 75k triangles)
   };
-  double tauPercent = 1.0;         ///< tau: tolerated share of flipped (un-hit) triangles, percent
-  int numRadii = 9;                ///< number of radii r_0..r_h (paper: h = 8, i.e. 9 radii)
+  double tauPercent = 1.0;         ///< tau: tolerated area share of flipped (un-hit) triangles, percent
+  int numRadii = 9;                ///< number of radii r_0..r_h (paper: h = 8, i.e. 9 radii), 1..64
   double maxRadiusPercent = 25.0;  ///< r_h in percent of the bbox diagonal (paper: 1/4 = 25%)
   Mode mode = Mode::Fast;
   unsigned seed = 1;               ///< random sampling seed (results are deterministic per seed)
+  /// A radius enters the S-fitmap's fit E(r) = a r^4 only if its neighbourhood holds at least
+  /// this many vertices (a cubic has 10 coefficients; with fewer than ~1.5x as many points the
+  /// residual says little). The M-fitmap tests every radius (a ridge-regularised cubic).
+  int minFitPoints = 15;
+  /// Optional: compute only these vertices (indices into TriData::V). Empty = all. Others get
+  /// S = 0, M = 0 and computed[i] = 0. Per-vertex values do not depend on the subset.
+  std::vector<int> vertices;
+  /// Fast mode: target number of (sub-sampled) points per neighbourhood. Radius r_i is evaluated
+  /// on the coarsest level of a vertex hierarchy whose neighbourhood of radius r_i still holds
+  /// about this many points, and interpolated to the vertices (see docs/fitmaps.md).
+  int fastPointsPerFit = 40;
+  /// Fast mode: target points of the per-vertex S fits at the radii >= r_h / 6 (the ones that
+  /// carry the S-fitmap: E(r_i) weighs (r_i / r_h)^4 in a).
+  int fastPointsPerSFit = 160;
+  /// Fast mode: the per-vertex S fits run at the points of this hierarchy level (their own
+  /// frames) and are interpolated to the other vertices; 0 = at every vertex (slower).
+  int fastSLevel = 1;
+  /// Fast mode: sampled surface points per neighbourhood for the flipped-share estimate.
+  int fastFlipSamples = 16;
+  /// Reference mode: the M-fitmap's sample count is referenceSampleFactor * n_M |B| / |M|
+  /// (paper: 4, i.e. twice the vertex density). Larger values make the literal estimate converge
+  /// to the coverage Fast mode measures (see docs/fitmaps.md).
+  double referenceSampleFactor = 4.0;
+  /// Keep the per-radius measurements E(r_i) and flipped shares in the result (diagnostics).
+  bool keepPerRadius = false;
 };
 
 /// Per-vertex results, indexed like the TriData's V (unreferenced vertices: S = 0, M = r_0).
+/// Values are always finite.
 struct FitmapResult {
   std::string error;          ///< non-empty: nothing else is meaningful
-  std::vector<double> S;      ///< S-fitmap a^{1/4}, unit 1/length
-  std::vector<double> M;      ///< M-fitmap, a radius (absolute length)
+  std::vector<double> S;      ///< S-fitmap a^{1/4} (unit length^{-3/4}: a has unit length^{-3})
+  std::vector<double> M;      ///< M-fitmap, a radius (absolute length), one of `radii`
   std::vector<double> radii;  ///< the radii used, absolute
+  std::vector<char> computed; ///< 1 where S/M were computed (all vertices unless Params::vertices)
+  int unreferenced = 0;       ///< vertices in no face (S = 0, M = r_0)
+  int fallbackNormals = 0;    ///< vertices whose area-weighted normal vanished (PCA normal used)
+  int noFit = 0;              ///< computed vertices where no radius had minFitPoints points (S = 0)
+  int levels = 1;             ///< Fast mode: levels of the vertex hierarchy used
+  /// With Params::keepPerRadius: E(r_i) and the flipped share of vertex v at [v * radii.size() + i];
+  /// -1 where not measured (radius skipped, vertex not computed, M stopped at an earlier radius).
+  std::vector<double> perRadiusE, perRadiusFlipped;
+  std::vector<int> radiusLevel;  ///< Fast mode: hierarchy level each radius is evaluated on
   double seconds = 0;         ///< wall time
+  double secondsLevels = 0, secondsCoarse = 0;  ///< Fast mode: wall time at the end of these stages
 };
 
 /// Computes both Fitmaps of `m` (paper §3.1.2–3.1.3). `scene` must be built on `m`.
-/// Cost: Fast mode O(n · k) with k bounded per vertex; Reference mode O(n · |B|).
+/// Per vertex p and radius r_i: the neighbourhood B_i = vertices reached by a breadth-first
+/// traversal from p that never leaves the ball of radius r_i (a connected region); a cubic height
+/// field over p's tangent plane (area-weighted normal) fitted in the least-squares sense; its RMS
+/// residual E_i = sqrt(sum res^2 / n); a = sum E_i r_i^4 / sum r_i^8; S = a^{1/4}. M = the
+/// largest r_i such that every radius r_1..r_i has an area share of un-hit triangles < tau.
+/// Preconditions: none (invalid input gives `error`); degenerate faces, boundaries, several
+/// components, non-manifold and unreferenced vertices are handled (finite values).
+/// Cost: Fast mode O(n · k) with k bounded per vertex (about 1 s on 37.7k vertices, 2 cores);
+/// Reference mode O(n · |B|) with |B| up to the whole mesh (minutes). OpenMP-parallel.
+/// Progress is reported from the calling thread only.
 FitmapResult ComputeFitmaps(const TriData& m, const EmbreeScene& scene, const FitmapParams& p,
                             vcg::CallBackPos* cb = nullptr);
 

@@ -1,0 +1,776 @@
+// S- and M-Fitmaps (Panozzo et al. 2011, §3.1.2–3.1.3). Design and decisions: docs/fitmaps.md.
+#include "vcg_ext/fitmaps/fitmaps.h"
+
+#include <omp.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "vcg_ext/core/progress.h"
+#include "vcg_ext/fitmaps/fitmaps_internal.h"
+
+namespace vcgext {
+
+using namespace fitmaps_internal;  // NOLINT (source file only)
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// One level of the vertex hierarchy of Fast mode (level 0 = the mesh itself).
+struct Level {
+  Adjacency adj;              ///< level graph
+  std::vector<Vec3> X;        ///< positions (each a mesh vertex: the cluster seed)
+  std::vector<double> W;      ///< number of mesh vertices the point stands for
+  std::vector<int> fineIdx;   ///< mesh vertex of each level point
+  std::vector<int> ofFine;    ///< mesh vertex -> level point (its cluster)
+  Adjacency faces;            ///< level point -> mesh faces of its cluster
+  std::vector<double> faceCum;  ///< cumulative face area within each cluster (aligned with faces.idx)
+  std::vector<double> area;   ///< cluster area
+  double areaPerPoint = 0;    ///< |M| / #points
+  int index = 0;              ///< position in the hierarchy
+};
+
+/// Per-evaluation output, one slot per radius.
+struct RadiusValues {
+  std::vector<double> E, phi;
+  std::vector<char> eOk, phiOk;
+  void Init(int h) {
+    E.assign(h, 0.0);
+    phi.assign(h, 0.0);
+    eOk.assign(h, 0);
+    phiOk.assign(h, 0);
+  }
+};
+
+/// Everything shared (read-only) by the per-vertex evaluations.
+struct Context {
+  const TriData* m = nullptr;       ///< the mesh with vertices in Morton order
+  const std::vector<int>* orig = nullptr;  ///< vertex of m -> caller's vertex index
+  const EmbreeScene* scene = nullptr;
+  const FitmapParams* p = nullptr;
+  std::vector<double> radii;
+  std::vector<Vec3> normals;       ///< unit, or zero where even the fallback failed
+  std::vector<double> faceArea;
+  Adjacency vf;                    ///< vertex -> faces (Reference mode)
+  double totalArea = 0;
+  double tau = 0;                  ///< tau as a fraction
+};
+
+/// Per-thread scratch.
+struct Scratch {
+  std::vector<GatherScratch> perLevel;  ///< traversal scratch, one per hierarchy level
+  std::vector<std::pair<int, double>> gathered;
+  std::vector<Vec3> local;            ///< gathered points in the frame
+  std::vector<double> cum;            ///< cumulative cluster areas along `gathered`
+  std::vector<std::pair<double, int>> faces;  ///< (key, face) for Reference mode
+  std::vector<unsigned> faceStamp, hitStamp;
+  unsigned stamp = 0;
+};
+
+double Clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
+
+/// RMS residual of `g` over the first n points (weighted), the paper's E(r_i) with the 1/n
+/// moved under the root (see docs/fitmaps.md).
+double Rms(const Cubic& g, const std::vector<Vec3>& P, const std::vector<double>* W,
+           const std::vector<std::pair<int, double>>& gathered, size_t n) {
+  double s = 0, sw = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const double w = W ? (*W)[gathered[k].first] : 1.0;
+    const double d = g.Eval(P[k][0], P[k][1]) - P[k][2];
+    s += w * d * d;
+    sw += w;
+  }
+  return sw > 0 ? std::sqrt(s / sw) : 0.0;
+}
+
+/// Whether the mesh point x (world) is the first hit of some normal line of the cubic, i.e.
+/// lies in the image of the paper's projection: closest point on the cubic graph, then no other
+/// surface on the line closer than x in either direction (and not farther than r).
+bool InverseHit(const Context& ctx, const Frame& fr, const Cubic& g, const Vec3& xw, double r) {
+  const Vec3 x = fr.Local(xw);
+  double u, v;
+  if (!ClosestPointOnCubic(g, x, 2.0 * r, u, v)) return false;
+  const Vec3 P(u, v, g.Eval(u, v));
+  const Vec3 N = g.Normal(u, v);
+  const double s = (x - P).dot(N);
+  if (std::abs(s) > r) return false;
+  const double tol = 1e-3 * ctx.radii[0] + 1e-4 * std::abs(s);
+  const double tfar = std::abs(s) - tol;
+  if (tfar <= 0) return true;
+  const Vec3 org = fr.World(P);
+  const Vec3 dir = fr.WorldDir(s >= 0 ? N : Vec3(-N));
+  if (ctx.scene->Intersect(org, dir, 0.0, tfar).valid) return false;
+  if (ctx.scene->Intersect(org, -dir, 0.0, tfar).valid) return false;
+  return true;
+}
+
+/// Uniform random point of triangle f.
+Vec3 SampleTriangle(const TriData& m, int f, Rng& rng) {
+  double a = rng.Uniform(), b = rng.Uniform();
+  if (a + b > 1) { a = 1 - a; b = 1 - b; }
+  const auto& t = m.F[f];
+  return m.V[t[0]] + a * (m.V[t[1]] - m.V[t[0]]) + b * (m.V[t[2]] - m.V[t[0]]);
+}
+
+/// What one evaluation computes.
+struct EvalSpec {
+  int start = 0;        ///< level point the traversal starts from
+  int vertex = 0;       ///< mesh vertex: origin, normal and random stream of the tangent frame
+  bool doS = true, doM = true;
+  bool literal = false;        ///< Reference mode M (forward rays from the paper's samples)
+  bool stopMAtFailure = true;  ///< skip M for radii after the first failing one
+};
+
+/// Evaluates radii [iBegin, iEnd) for the frame of mesh vertex `e.vertex`, gathering the points
+/// of level `lv` (level 0 = the mesh). Writes out.E/eOk (doS) and out.phi/phiOk (doM).
+void Evaluate(const Context& ctx, const Level& lv, const EvalSpec& e, int iBegin, int iEnd, Scratch& s,
+              RadiusValues& out) {
+  const TriData& m = *ctx.m;
+  const FitmapParams& p = *ctx.p;
+  const bool literal = e.literal;
+  const int vFine = e.vertex;
+  const Vec3 n = ctx.normals[vFine];
+  if (n.squaredNorm() == 0 || iBegin >= iEnd) return;
+  const double rMax = ctx.radii[iEnd - 1];
+  const Vec3 origin = m.V[vFine];
+  if (s.perLevel.size() <= size_t(lv.index)) s.perLevel.resize(lv.index + 1);
+  GatherScratch& gs = s.perLevel[lv.index];
+  GatherMinimax(lv.adj, lv.X, e.start, rMax, gs, s.gathered, size_t(-1), &origin);
+  const Frame fr = Frame::Make(origin, n);
+  s.local.resize(s.gathered.size());
+  for (size_t k = 0; k < s.gathered.size(); ++k) s.local[k] = fr.Local(lv.X[s.gathered[k].first]);
+  const std::vector<double>* W = literal ? nullptr : &lv.W;
+
+  // Reference mode: faces of the neighbourhoods, keyed by the largest key of their corners
+  // (a face belongs to B_i when all three corners do), sorted, so B_i's faces are a prefix.
+  if (literal && e.doM) {
+    if (s.faceStamp.size() != m.F.size()) {
+      s.faceStamp.assign(m.F.size(), 0);
+      s.hitStamp.assign(m.F.size(), 0);
+      s.stamp = 0;
+    }
+    ++s.stamp;
+    s.faces.clear();
+    for (const auto& [v, k] : s.gathered) {
+      for (const int* it = ctx.vf.Begin(v); it != ctx.vf.End(v); ++it) {
+        const int f = *it;
+        if (s.faceStamp[f] == s.stamp) continue;
+        s.faceStamp[f] = s.stamp;
+        double fk = 0;
+        for (int c : m.F[f]) fk = std::max(fk, gs.key[c]);
+        if (fk <= rMax) s.faces.emplace_back(fk, f);
+      }
+    }
+    std::sort(s.faces.begin(), s.faces.end());
+  } else if (e.doM) {
+    s.cum.resize(s.gathered.size() + 1);
+    s.cum[0] = 0;
+    for (size_t k = 0; k < s.gathered.size(); ++k) s.cum[k + 1] = s.cum[k] + lv.area[s.gathered[k].first];
+  }
+
+  CubicAccumulator acc;
+  size_t nIn = 0, nFaces = 0;
+  bool mFailed = false;
+  for (int i = iBegin; i < iEnd; ++i) {
+    const double r = ctx.radii[i];
+    while (nIn < s.gathered.size() && s.gathered[nIn].second <= r) {
+      const Vec3& l = s.local[nIn];
+      acc.Add(l[0], l[1], l[2], W ? (*W)[s.gathered[nIn].first] : 1.0);
+      ++nIn;
+    }
+    Cubic g;
+    if (!acc.Solve(r, g)) continue;
+    // S: radii with too few points are skipped.
+    if (e.doS && acc.Count() >= p.minFitPoints) {
+      out.E[i] = Rms(g, s.local, W, s.gathered, nIn);
+      out.eOk[i] = 1;
+    }
+    // M (radius 0 never matters: F_M >= r_0 by definition).
+    if (i == 0 || mFailed || !e.doM) continue;
+    Rng rng(p.seed, uint64_t((*ctx.orig)[vFine]), uint64_t(i));
+    double unhit = 0, total = 0;
+    if (literal) {
+      while (nFaces < s.faces.size() && s.faces[nFaces].first <= r) ++nFaces;
+      for (size_t k = 0; k < nFaces; ++k) total += ctx.faceArea[s.faces[k].second];
+      if (total > 0) {
+        // The paper's sample count 4 n_M |B| / |M| (twice the vertex density), spread over the
+        // faces in proportion to their area with randomised rounding and at least one sample
+        // per non-degenerate face (else a plane would leave e^-2 = 13.5% of its faces un-hit).
+        const double perArea = p.referenceSampleFactor * double(m.V.size()) / ctx.totalArea;
+        ++s.stamp;
+        const unsigned hitMark = s.stamp;
+        for (size_t k = 0; k < nFaces; ++k) {
+          const int f = s.faces[k].second;
+          const double a = ctx.faceArea[f];
+          if (a <= 0) continue;
+          const double want = perArea * a;
+          int cnt = int(std::floor(want));
+          if (rng.Uniform() < want - cnt) ++cnt;
+          cnt = std::max(cnt, 1);
+          for (int j = 0; j < cnt; ++j) {
+            const Vec3 x = fr.Local(SampleTriangle(m, f, rng));
+            const Vec3 P(x[0], x[1], g.Eval(x[0], x[1]));
+            const Vec3 N = g.Normal(x[0], x[1]);
+            // Both directions along the normal line, nearest hit, at most r away.
+            auto h = ctx.scene->IntersectLine(fr.World(P), fr.WorldDir(N), r);
+            if (h.valid) s.hitStamp[h.face] = hitMark;
+          }
+        }
+        for (size_t k = 0; k < nFaces; ++k) {
+          const int f = s.faces[k].second;
+          if (s.hitStamp[f] != hitMark) unhit += ctx.faceArea[f];
+        }
+      }
+    } else {
+      total = s.cum[nIn];
+      if (total > 0) {
+        const int K = std::max(1, p.fastFlipSamples);
+        int miss = 0, valid = 0;
+        for (int j = 0; j < K; ++j) {
+          // area-uniform point of the neighbourhood: cluster, then face, then point; faces with
+          // a corner outside the neighbourhood (its cluster not reached within r) are rejected
+          // (up to 4 tries), so the neighbourhood's faces are those the Reference mode uses.
+          int face = -1;
+          for (int tries = 0; tries < 4 && face < 0; ++tries) {
+            const double a = rng.Uniform() * total;
+            size_t k = size_t(std::upper_bound(s.cum.begin(), s.cum.begin() + nIn + 1, a) - s.cum.begin());
+            k = std::min(std::max<size_t>(k, 1), nIn) - 1;
+            const int c = s.gathered[k].first;
+            const int o = lv.faces.offs[c], e = lv.faces.offs[c + 1];
+            if (o == e) continue;
+            const double b = rng.Uniform() * lv.faceCum[e - 1];
+            int fi = int(std::upper_bound(lv.faceCum.begin() + o, lv.faceCum.begin() + e, b) - lv.faceCum.begin());
+            fi = std::min(fi, e - 1);
+            const int f = lv.faces.idx[fi];
+            bool inside = true;
+            for (int corner : m.F[f]) inside = inside && gs.key[lv.ofFine[corner]] <= r;
+            if (inside) face = f;
+          }
+          if (face < 0) continue;
+          ++valid;
+          if (!InverseHit(ctx, fr, g, SampleTriangle(m, face, rng), r)) ++miss;
+        }
+        unhit = valid ? double(miss) / valid : 0.0;
+        total = 1;
+      }
+    }
+    out.phi[i] = total > 0 ? Clamp01(unhit / total) : 0.0;
+    out.phiOk[i] = 1;
+    if (e.stopMAtFailure && !(out.phi[i] < ctx.tau)) mFailed = true;
+  }
+}
+
+/// Area-weighted normals; where they vanish (unreferenced vertex, faces cancelling at a
+/// non-manifold vertex), the PCA normal of the 30 nearest vertices of the connected
+/// neighbourhood; zero if that is undefined too (a single isolated vertex).
+std::vector<Vec3> RobustNormals(const TriData& m, const Adjacency& vv, double rMax, int& fallbacks) {
+  std::vector<Vec3> N = VertexNormals(m);
+  std::vector<int> bad;
+  for (size_t i = 0; i < N.size(); ++i)
+    if (N[i].squaredNorm() == 0 && vv.Count(int(i)) > 0) bad.push_back(int(i));
+  fallbacks = int(bad.size());
+#pragma omp parallel
+  {
+    GatherScratch gs;
+    std::vector<std::pair<int, double>> got;
+#pragma omp for schedule(dynamic, 16)
+    for (long b = 0; b < long(bad.size()); ++b) {
+      const int i = bad[b];
+      GatherMinimax(vv, m.V, i, rMax, gs, got, 30);
+      if (got.size() < 2) continue;
+      Vec3 c = Vec3::Zero();
+      for (auto& [q, k] : got) c += m.V[q];
+      c /= double(got.size());
+      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+      for (auto& [q, k] : got) C += (m.V[q] - c) * (m.V[q] - c).transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+      Vec3 n = es.eigenvectors().col(0);
+      if (n.allFinite() && n.norm() > 0.5) N[i] = n.normalized();
+    }
+  }
+  return N;
+}
+
+/// Level 0 of the hierarchy: the mesh; faces belong to the cluster of their first corner.
+Level MakeFineLevel(const TriData& m, const Adjacency& vv, const std::vector<double>& faceArea,
+                    double totalArea) {
+  Level lv;
+  const int n = int(m.V.size());
+  lv.adj = vv;
+  lv.X = m.V;
+  lv.W.assign(n, 1.0);
+  lv.fineIdx.resize(n);
+  lv.ofFine.resize(n);
+  for (int i = 0; i < n; ++i) lv.fineIdx[i] = lv.ofFine[i] = i;
+  lv.areaPerPoint = totalArea / std::max(1, n);
+  return lv;
+}
+
+/// Cluster -> faces lists with cumulative areas (face f belongs to the cluster of F[f][0]).
+void BuildClusterFaces(const TriData& m, const std::vector<double>& faceArea, Level& lv) {
+  const int nc = int(lv.X.size());
+  lv.faces.offs.assign(nc + 1, 0);
+  for (const auto& f : m.F) ++lv.faces.offs[lv.ofFine[f[0]] + 1];
+  for (int c = 0; c < nc; ++c) lv.faces.offs[c + 1] += lv.faces.offs[c];
+  lv.faces.idx.resize(m.F.size());
+  std::vector<int> fill(lv.faces.offs.begin(), lv.faces.offs.end() - 1);
+  for (size_t f = 0; f < m.F.size(); ++f) lv.faces.idx[fill[lv.ofFine[m.F[f][0]]]++] = int(f);
+  lv.faceCum.resize(m.F.size());
+  lv.area.assign(nc, 0.0);
+  for (int c = 0; c < nc; ++c) {
+    double acc = 0;
+    for (int k = lv.faces.offs[c]; k < lv.faces.offs[c + 1]; ++k) {
+      acc += faceArea[lv.faces.idx[k]];
+      lv.faceCum[k] = acc;
+    }
+    lv.area[c] = acc;
+  }
+}
+
+/// Next coarser level: seeds greedily covering the level within `cover` (connected traversal,
+/// so clusters never join separate components), every point assigned to its graph-nearest seed
+/// (multi-source Dijkstra on edge lengths), clusters adjacent when any members are.
+Level Coarsen(const TriData& m, const Level& f, double cover) {
+  const int n = int(f.X.size());
+  std::vector<char> covered(n, 0);
+  std::vector<int> seeds;
+  GatherScratch gs;
+  std::vector<std::pair<int, double>> got;
+  for (int i = 0; i < n; ++i) {
+    if (covered[i]) continue;
+    seeds.push_back(i);
+    GatherMinimax(f.adj, f.X, i, cover, gs, got);
+    for (auto& [q, k] : got) covered[q] = 1;
+  }
+  std::vector<int> label(n, -1);
+  std::vector<double> dist(n, kInf);
+  std::vector<std::pair<double, int>> heap;
+  auto cmp = std::greater<std::pair<double, int>>();
+  for (int s = 0; s < int(seeds.size()); ++s) {
+    dist[seeds[s]] = 0;
+    label[seeds[s]] = s;
+    heap.emplace_back(0.0, seeds[s]);
+  }
+  std::make_heap(heap.begin(), heap.end(), cmp);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), cmp);
+    auto [d, q] = heap.back();
+    heap.pop_back();
+    if (d > dist[q]) continue;
+    for (const int* it = f.adj.Begin(q); it != f.adj.End(q); ++it) {
+      const double nd = d + (f.X[*it] - f.X[q]).norm();
+      if (nd < dist[*it]) {
+        dist[*it] = nd;
+        label[*it] = label[q];
+        heap.emplace_back(nd, *it);
+        std::push_heap(heap.begin(), heap.end(), cmp);
+      }
+    }
+  }
+  Level c;
+  const int nc = int(seeds.size());
+  c.X.resize(nc);
+  c.fineIdx.resize(nc);
+  c.W.assign(nc, 0.0);
+  for (int s = 0; s < nc; ++s) {
+    c.X[s] = f.X[seeds[s]];
+    c.fineIdx[s] = f.fineIdx[seeds[s]];
+  }
+  for (int i = 0; i < n; ++i) c.W[label[i]] += f.W[i];
+  std::vector<std::vector<int>> nb(nc);
+  for (int i = 0; i < n; ++i)
+    for (const int* it = f.adj.Begin(i); it != f.adj.End(i); ++it)
+      if (label[*it] != label[i]) nb[label[i]].push_back(label[*it]);
+  c.adj.offs.assign(nc + 1, 0);
+  for (int s = 0; s < nc; ++s) {
+    auto& l = nb[s];
+    std::sort(l.begin(), l.end());
+    l.erase(std::unique(l.begin(), l.end()), l.end());
+    c.adj.offs[s + 1] = c.adj.offs[s] + int(l.size());
+  }
+  for (auto& l : nb) c.adj.idx.insert(c.adj.idx.end(), l.begin(), l.end());
+  c.ofFine.resize(f.ofFine.size());
+  for (size_t v = 0; v < f.ofFine.size(); ++v) c.ofFine[v] = label[f.ofFine[v]];
+  (void)m;
+  return c;
+}
+
+/// a^{1/4} of the least-squares fit E = a r^4 (closed form a = sum E r^4 / sum r^8), computed
+/// with radii relative to r_h to avoid overflow. Returns 0 when no radius was usable.
+double SFromE(const std::vector<double>& radii, const RadiusValues& rv, bool& ok) {
+  const double rh = radii.back();
+  double num = 0, den = 0;
+  ok = false;
+  for (size_t i = 0; i < radii.size(); ++i) {
+    if (!rv.eOk[i]) continue;
+    const double q = radii[i] / rh, q4 = q * q * q * q;
+    num += rv.E[i] * q4;
+    den += q4 * q4;
+    ok = true;
+  }
+  if (!ok || !(den > 0)) return 0.0;
+  const double a = std::max(0.0, num / den) / (rh * rh * rh * rh);  // unit length^-3
+  const double s = std::pow(a, 0.25);
+  return std::isfinite(s) ? s : 0.0;
+}
+
+void Keep(const FitmapParams& p, const RadiusValues& rv, int v, FitmapResult& res) {
+  if (!p.keepPerRadius) return;
+  const size_t H = rv.E.size();
+  for (size_t i = 0; i < H; ++i) {
+    res.perRadiusE[v * H + i] = rv.eOk[i] ? rv.E[i] : -1.0;
+    res.perRadiusFlipped[v * H + i] = rv.phiOk[i] ? rv.phi[i] : -1.0;
+  }
+}
+
+/// F_M: the largest r_i such that r_1..r_i all have a flipped share below tau; at least r_0.
+double MFromPhi(const Context& ctx, const RadiusValues& rv) {
+  double M = ctx.radii[0];
+  for (size_t i = 1; i < ctx.radii.size(); ++i) {
+    if (!rv.phiOk[i] || !(rv.phi[i] < ctx.tau)) break;
+    M = ctx.radii[i];
+  }
+  return M;
+}
+
+}  // namespace
+
+FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, const FitmapParams& p,
+                            vcg::CallBackPos* cb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FitmapResult res;
+  // ---- validation
+  const int nV = int(input.V.size());
+  if (nV == 0) { res.error = "the mesh is empty (no vertices)"; return res; }
+  if (input.F.empty()) { res.error = "the mesh has no faces (point cloud): a triangle mesh is needed"; return res; }
+  for (size_t i = 0; i < input.V.size(); ++i)
+    if (!input.V[i].allFinite()) { res.error = "vertex " + std::to_string(i) + " has NaN or infinite coordinates"; return res; }
+  int badIdx = 0;
+  for (const auto& f : input.F)
+    for (int c : f) badIdx += (c < 0 || c >= nV) ? 1 : 0;
+  if (badIdx) { res.error = std::to_string(badIdx) + " face corners refer to no vertex (index out of range)"; return res; }
+  if (!(p.tauPercent >= 0 && p.tauPercent <= 100)) { res.error = "tau must be in [0, 100] percent"; return res; }
+  if (p.numRadii < 1 || p.numRadii > 64) { res.error = "the number of radii must be in [1, 64]"; return res; }
+  if (!(p.maxRadiusPercent > 0 && p.maxRadiusPercent <= 100)) {
+    res.error = "the largest radius must be in (0, 100] percent of the bbox diagonal";
+    return res;
+  }
+  if (!(p.referenceSampleFactor > 0 && p.referenceSampleFactor <= 1e4)) {
+    res.error = "referenceSampleFactor must be in (0, 10000]";
+    return res;
+  }
+  if (p.minFitPoints < 1) { res.error = "minFitPoints must be at least 1"; return res; }
+  for (int v : p.vertices)
+    if (v < 0 || v >= nV) { res.error = "vertex subset: index " + std::to_string(v) + " is out of range"; return res; }
+  if (!scene.Ok()) { res.error = "ray-casting scene: " + scene.Error(); return res; }
+  if (scene.Mesh().V.size() != input.V.size() || scene.Mesh().F.size() != input.F.size()) {
+    res.error = "the ray-casting scene was not built on this mesh";
+    return res;
+  }
+
+  // ---- vertices in Morton (Z-curve) order: the traversals then touch nearby memory (the
+  // results are mapped back; faces keep their order, so the Embree scene stays valid).
+  std::vector<int> order(nV), rank(nV);
+  {
+    Vec3 lo = input.V[0], hi = input.V[0];
+    for (const auto& q : input.V) { lo = lo.cwiseMin(q); hi = hi.cwiseMax(q); }
+    const double ext = std::max((hi - lo).maxCoeff(), 1e-300);
+    std::vector<std::pair<uint64_t, int>> code(nV);
+    auto spread = [](uint64_t x) {
+      x &= 0x1fffff;
+      x = (x | x << 32) & 0x1f00000000ffffull;
+      x = (x | x << 16) & 0x1f0000ff0000ffull;
+      x = (x | x << 8) & 0x100f00f00f00f00full;
+      x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+      x = (x | x << 2) & 0x1249249249249249ull;
+      return x;
+    };
+    for (int i = 0; i < nV; ++i) {
+      const Vec3 t = (input.V[i] - lo) / ext * 2097151.0;
+      code[i] = {spread(uint64_t(t[0])) | spread(uint64_t(t[1])) << 1 | spread(uint64_t(t[2])) << 2, i};
+    }
+    std::sort(code.begin(), code.end());
+    for (int k = 0; k < nV; ++k) { order[k] = code[k].second; rank[code[k].second] = k; }
+  }
+  TriData mm;
+  mm.V.resize(nV);
+  for (int k = 0; k < nV; ++k) mm.V[k] = input.V[order[k]];
+  mm.F = input.F;
+  for (auto& f : mm.F)
+    for (int& c : f) c = rank[c];
+  const TriData& m = mm;
+
+  // ---- radii: r_0 = average edge length, r_h = maxRadiusPercent of the diagonal, geometric
+  Context ctx;
+  ctx.m = &m;
+  ctx.orig = &order;
+  ctx.scene = &scene;
+  ctx.p = &p;
+  ctx.tau = p.tauPercent / 100.0;
+  const double r0 = AverageEdgeLength(m);
+  const double diag = BBoxDiagonal(m.V);
+  if (!(r0 > 0) || !std::isfinite(r0)) { res.error = "all edges have zero length"; return res; }
+  const double rh = std::max(r0, p.maxRadiusPercent / 100.0 * diag);
+  const int H = p.numRadii;
+  for (int i = 0; i < H; ++i)
+    ctx.radii.push_back(H == 1 ? r0 : r0 * std::pow(rh / r0, double(i) / double(H - 1)));
+  res.radii = ctx.radii;
+
+  Progress prog(cb);
+  prog(0, "Fitmaps: preparing", true);
+  ctx.faceArea.resize(m.F.size());
+  for (size_t f = 0; f < m.F.size(); ++f) {
+    const auto& t = m.F[f];
+    ctx.faceArea[f] = 0.5 * (m.V[t[1]] - m.V[t[0]]).cross(m.V[t[2]] - m.V[t[0]]).norm();
+    ctx.totalArea += ctx.faceArea[f];
+  }
+  if (!(ctx.totalArea > 0)) { res.error = "all faces have zero area"; return res; }
+  const Adjacency vv = VertexVertexAdjacency(m.F, nV);
+  ctx.normals = RobustNormals(m, vv, rh, res.fallbackNormals);
+
+  // ---- which vertices
+  std::vector<int> todo;
+  for (int v : p.vertices) todo.push_back(rank[v]);
+  std::sort(todo.begin(), todo.end());
+  todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+  if (todo.empty()) {
+    todo.resize(nV);
+    for (int i = 0; i < nV; ++i) todo[i] = i;
+  }
+  res.S.assign(nV, 0.0);
+  res.M.assign(nV, 0.0);
+  res.computed.assign(nV, 0);
+  for (int v : todo) {
+    res.computed[v] = 1;
+    res.M[v] = r0;
+  }
+  if (p.keepPerRadius) {
+    res.perRadiusE.assign(size_t(nV) * H, -1.0);
+    res.perRadiusFlipped.assign(size_t(nV) * H, -1.0);
+  }
+  for (int v : todo) res.unreferenced += vv.Count(v) == 0 ? 1 : 0;
+
+  Level fine = MakeFineLevel(m, vv, ctx.faceArea, ctx.totalArea);
+  const bool reference = p.mode == FitmapParams::Mode::Reference;
+  std::atomic<long> done{0};
+  int noFit = 0;
+
+  if (reference) {
+    ctx.vf = VertexFaceAdjacency(m.F, nV);
+#pragma omp parallel reduction(+ : noFit)
+    {
+      Scratch s;
+      RadiusValues rv;
+#pragma omp for schedule(dynamic, 4)
+      for (long k = 0; k < long(todo.size()); ++k) {
+        const int v = todo[k];
+        rv.Init(H);
+        EvalSpec e;
+        e.start = e.vertex = v;
+        e.literal = true;
+        Evaluate(ctx, fine, e, 0, H, s, rv);
+        bool ok;
+        res.S[v] = SFromE(ctx.radii, rv, ok);
+        if (!ok) ++noFit;
+        res.M[v] = MFromPhi(ctx, rv);
+        Keep(p, rv, v, res);
+        ++done;
+        if (omp_get_thread_num() == 0) prog(100.0 * done / todo.size(), "Fitmaps (reference)");
+      }
+    }
+  } else {
+    // ---- Fast mode: hierarchy of levels, each radius evaluated on the coarsest level whose
+    // neighbourhood of that radius still holds about fastPointsPerFit points.
+    std::vector<Level> levels;
+    levels.push_back(std::move(fine));
+    BuildClusterFaces(m, ctx.faceArea, levels[0]);
+    const double target = std::max(16, p.fastPointsPerFit);
+    std::vector<int> levelOf(H, 0);
+    for (int i = 0; i < H; ++i) {
+      const double r = ctx.radii[i];
+      int l = 0;
+      while (true) {
+        if (int(levels.size()) <= l + 1) {
+          const Level& f = levels.back();
+          if (f.X.size() < 64 || levels.size() >= 16) break;
+          const double cover = r0 * std::pow(2.0, 0.5 * double(levels.size()));
+          Level c = Coarsen(m, f, cover);
+          c.areaPerPoint = ctx.totalArea / double(c.X.size());
+          c.index = int(levels.size());
+          BuildClusterFaces(m, ctx.faceArea, c);
+          levels.push_back(std::move(c));
+        }
+        const Level& nx = levels[l + 1];
+        if (M_PI * r * r / nx.areaPerPoint >= target) ++l; else break;
+      }
+      levelOf[i] = l;
+    }
+    res.levels = int(levels.size());
+    // E(r_i) enters a with weight (r_i/r_h)^4: radii below r_h/6 weigh < 0.08% each, so they
+    // are interpolated from the level points like the flipped shares; the larger ones are
+    // fitted per vertex in the vertex's own frame (the frame matters most there).
+    std::vector<char> perVertexS(H, 0);
+    std::vector<int> levelS(H, 0);
+    for (int i = 0; i < H; ++i) {
+      if (levelOf[i] == 0 || ctx.radii[i] < rh / 6.0) continue;
+      perVertexS[i] = 1;
+      // the per-vertex S fits use more points than the M estimates (fastPointsPerSFit)
+      const double r = ctx.radii[i];
+      int l = 0;
+      while (l + 1 < int(levels.size()) &&
+             M_PI * r * r / levels[l + 1].areaPerPoint >= std::max(16, p.fastPointsPerSFit))
+        ++l;
+      levelS[i] = std::max(l, 1);
+    }
+    res.secondsLevels = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (int i = 0; i < H; ++i) res.radiusLevel.push_back(levelOf[i]);
+    prog(5, "Fitmaps: coarse levels", true);
+    // coarse levels: every level point, all radii of that level
+    std::vector<std::vector<RadiusValues>> coarse(levels.size());
+    long coarseWork = 0;
+    for (size_t l = 1; l < levels.size(); ++l) coarseWork += long(levels[l].X.size());
+    for (size_t l = 1; l < levels.size(); ++l) {
+      int i0 = H, i1 = 0;
+      for (int i = 0; i < H; ++i)
+        if (levelOf[i] == int(l)) { i0 = std::min(i0, i); i1 = std::max(i1, i + 1); }
+      if (i0 >= i1) continue;
+      const Level& lv = levels[l];
+      coarse[l].resize(lv.X.size());
+#pragma omp parallel
+      {
+        Scratch s;
+#pragma omp for schedule(dynamic, 8)
+        for (long q = 0; q < long(lv.X.size()); ++q) {
+          coarse[l][q].Init(H);
+          EvalSpec e;
+          e.start = int(q);
+          e.vertex = lv.fineIdx[q];
+          e.doS = true;  // used where S is not fitted per vertex (radii below r_h / 6)
+          e.stopMAtFailure = false;
+          Evaluate(ctx, lv, e, i0, i1, s, coarse[l][q]);
+        }
+      }
+    }
+    // large-radius S fits in the frames of the points of level sLevel (0: every vertex)
+    const int sLevel = std::clamp(p.fastSLevel, 0, int(levels.size()) - 1);
+    std::vector<RadiusValues> sVals;
+    auto fitS = [&](int v, Scratch& s, RadiusValues& rv) {
+      EvalSpec ec;
+      ec.vertex = v;
+      ec.doM = false;
+      for (int i = 0; i < H;) {
+        if (!perVertexS[i]) { ++i; continue; }
+        int j = i;
+        while (j < H && perVertexS[j] && levelS[j] == levelS[i]) ++j;
+        ec.start = levels[levelS[i]].ofFine[v];
+        Evaluate(ctx, levels[levelS[i]], ec, i, j, s, rv);
+        i = j;
+      }
+    };
+    if (sLevel > 0) {
+      const Level& lv = levels[sLevel];
+      sVals.resize(lv.X.size());
+#pragma omp parallel
+      {
+        Scratch s;
+#pragma omp for schedule(dynamic, 16)
+        for (long q = 0; q < long(lv.X.size()); ++q) {
+          sVals[q].Init(H);
+          fitS(lv.fineIdx[q], s, sVals[q]);
+        }
+      }
+    }
+    prog(30, "Fitmaps: vertices", true);
+    res.secondsCoarse = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // fine level per vertex + interpolation of the coarse radii
+    int i1fine = 0;
+    while (i1fine < H && levelOf[i1fine] == 0) ++i1fine;
+#pragma omp parallel reduction(+ : noFit)
+    {
+      Scratch s;
+      RadiusValues rv;
+#pragma omp for schedule(dynamic, 32)
+      for (long k = 0; k < long(todo.size()); ++k) {
+        const int v = todo[k];
+        rv.Init(H);
+        EvalSpec e;
+        e.start = e.vertex = v;
+        Evaluate(ctx, levels[0], e, 0, i1fine, s, rv);
+        if (sLevel == 0) fitS(v, s, rv);
+        bool needM = true;
+        for (int i = 1; i < i1fine; ++i)
+          if (!(rv.phiOk[i] && rv.phi[i] < ctx.tau)) needM = false;
+        if (ctx.normals[v].squaredNorm() > 0) {
+          // interpolation weights exp(-d^2 / (2 * area per point)) over the vertex's cluster
+          // and its neighbour clusters
+          if (sLevel > 0) {
+            const Level& lv = levels[sLevel];
+            const int c = lv.ofFine[v];
+            const double inv = 1.0 / (2.0 * lv.areaPerPoint);
+            for (int i = 0; i < H; ++i) {
+              if (!perVertexS[i]) continue;
+              double we = 0, se = 0;
+              auto take = [&](int cc) {
+                if (!sVals[cc].eOk[i]) return;
+                const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
+                we += w;
+                se += w * sVals[cc].E[i];
+              };
+              take(c);
+              for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
+              if (we > 0) { rv.E[i] = se / we; rv.eOk[i] = 1; }
+            }
+          }
+          for (int i = i1fine; i < H; ++i) {
+            const Level& lv = levels[levelOf[i]];
+            const auto& vals = coarse[levelOf[i]];
+            const int c = lv.ofFine[v];
+            const double inv = 1.0 / (2.0 * lv.areaPerPoint);
+            double wp = 0, sp = 0, we = 0, se = 0;
+            auto take = [&](int cc) {
+              const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
+              if (vals[cc].phiOk[i]) { wp += w; sp += w * vals[cc].phi[i]; }
+              if (vals[cc].eOk[i]) { we += w; se += w * vals[cc].E[i]; }
+            };
+            take(c);
+            for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
+            if (we > 0 && !perVertexS[i]) { rv.E[i] = se / we; rv.eOk[i] = 1; }
+            if (wp > 0 && needM) { rv.phi[i] = sp / wp; rv.phiOk[i] = 1; }
+          }
+        }
+        bool ok;
+        res.S[v] = SFromE(ctx.radii, rv, ok);
+        if (!ok) ++noFit;
+        res.M[v] = MFromPhi(ctx, rv);
+        Keep(p, rv, v, res);
+        ++done;
+        if (omp_get_thread_num() == 0) prog(30 + 70.0 * done / todo.size(), "Fitmaps");
+      }
+    }
+    (void)coarseWork;
+  }
+  res.noFit = noFit;
+  // back to the caller's vertex order
+  auto unpermute = [&](auto& vec, size_t stride) {
+    if (vec.empty()) return;
+    auto tmp = vec;
+    for (int k = 0; k < nV; ++k)
+      for (size_t j = 0; j < stride; ++j) vec[size_t(order[k]) * stride + j] = tmp[size_t(k) * stride + j];
+  };
+  unpermute(res.S, 1);
+  unpermute(res.M, 1);
+  unpermute(res.computed, 1);
+  unpermute(res.perRadiusE, size_t(H));
+  unpermute(res.perRadiusFlipped, size_t(H));
+  prog(100, "Fitmaps: done", true);
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace vcgext
