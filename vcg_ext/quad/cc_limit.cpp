@@ -119,29 +119,41 @@ bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal) {
 InterpolationStats SolveInterpolationLocal(QuadMesh& m, const std::vector<int>& W,
                                            const std::vector<Vec3>& targets, double tol, int maxIter) {
   InterpolationStats st;
-  std::vector<std::pair<int, double>> mask;
+  // masks once (connectivity is fixed during the solve): flat arrays of (vertex, weight)
+  thread_local std::vector<int> offs, idx;
+  thread_local std::vector<double> wts, diag;
+  thread_local std::vector<std::pair<int, double>> mask;
+  offs.assign(1, 0);
+  idx.clear();
+  wts.clear();
+  diag.assign(W.size(), 0.0);
+  for (size_t i = 0; i < W.size(); ++i) {
+    if (VertexLimitMask(m, W[i], mask))
+      for (auto& [j, wt] : mask) {
+        if (j == W[i]) diag[i] += wt;
+        else { idx.push_back(j); wts.push_back(wt); }
+      }
+    offs.push_back(int(idx.size()));
+  }
+  auto residual = [&](size_t i) {
+    Vec3 lim = diag[i] * m.P[W[i]];
+    for (int e = offs[i]; e < offs[i + 1]; ++e) lim += wts[e] * m.P[idx[e]];
+    return Vec3(targets[i] - lim);
+  };
   for (int it = 0; it < maxIter; ++it) {
     double maxRes = 0;
     for (size_t i = 0; i < W.size(); ++i) {
-      int v = W[i];
-      if (!VertexLimitMask(m, v, mask)) continue;
-      Vec3 lim = Vec3::Zero();
-      double diag = 0;
-      for (auto& [j, wt] : mask) {
-        lim += wt * m.P[j];
-        if (j == v) diag += wt;
-      }
-      Vec3 r = targets[i] - lim;
+      if (!(diag[i] > 0)) continue;
+      Vec3 r = residual(i);
       maxRes = std::max(maxRes, r.norm());
-      m.MoveVertex(v, m.P[v] + r / diag);  // Gauss-Seidel: row v satisfied exactly
+      m.MoveVertex(W[i], m.P[W[i]] + r / diag[i]);  // Gauss-Seidel: row i satisfied exactly
     }
     st.iterations = it + 1;
-    st.maxResidual = maxRes;
-    if (maxRes <= tol) { st.converged = true; break; }
+    if (maxRes <= tol) break;
   }
-  // residual after the last sweep
   double maxRes = 0;
-  for (size_t i = 0; i < W.size(); ++i) maxRes = std::max(maxRes, (targets[i] - VertexLimit(m, W[i])).norm());
+  for (size_t i = 0; i < W.size(); ++i)
+    if (diag[i] > 0) maxRes = std::max(maxRes, residual(i).norm());
   st.maxResidual = maxRes;
   st.converged = maxRes <= tol;
   return st;

@@ -112,7 +112,7 @@ int QuadMesh::AcrossEdge(int f, int k) const {
 
 // ---------------------------------------------------------------------------- journal
 void QuadMesh::SaveFace(int f) { fj_.push_back({f, F[f], faceAlive_[f]}); }
-void QuadMesh::SaveVert(int v) { vj_.push_back({v, P[v], vertAlive_[v], vf_[v]}); }
+void QuadMesh::SaveVert(int v) { vj_.push_back({v, P[v], vertAlive_[v], false, vf_[v]}); }
 
 void QuadMesh::Begin() {
   fj_.clear();
@@ -138,8 +138,9 @@ void QuadMesh::RollbackTo(size_t fmark, size_t vmark) {
   }
   while (vj_.size() > vmark) {
     VertRec& r = vj_.back();
-    if (vertAlive_[r.v] != r.alive) nVerts_ += r.alive ? 1 : -1;
     P[r.v] = r.p;
+    if (r.posOnly) { vj_.pop_back(); continue; }
+    if (vertAlive_[r.v] != r.alive) nVerts_ += r.alive ? 1 : -1;
     vertAlive_[r.v] = r.alive;
     vf_[r.v].swap(r.vf);
     vj_.pop_back();
@@ -150,7 +151,7 @@ void QuadMesh::EndOp(size_t fmark, size_t vmark, bool ok) {
   if (!recording_) { fj_.clear(); vj_.clear(); }
 }
 void QuadMesh::MoveVertex(int v, const Vec3& p) {
-  if (recording_) SaveVert(v);
+  if (recording_) vj_.push_back({v, P[v], vertAlive_[v], true, {}});  // position only: no allocation
   P[v] = p;
 }
 

@@ -149,7 +149,7 @@ class QuadMesh {
 
   // journal
   struct FaceRec { int f; Quad q; char alive; };
-  struct VertRec { int v; Vec3 p; char alive; std::vector<int> vf; };
+  struct VertRec { int v; Vec3 p; char alive; bool posOnly; std::vector<int> vf; };
   bool recording_ = false;
   std::vector<FaceRec> fj_;  // appended on every save; restored in reverse order
   std::vector<VertRec> vj_;
