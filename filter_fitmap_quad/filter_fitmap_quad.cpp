@@ -18,6 +18,16 @@ const FilterSpec kFilters[] = {
      "attributes (FitmapS, FitmapM) for the quad simplification; the chosen one is copied to "
      "the vertex quality and colour-mapped.",
      MeshFilterInterface::Quality | MeshFilterInterface::Remeshing},
+    {FP_QUAD_SIMPLIFICATION, "Fitmap Quad Simplification",
+     "Turns the current triangle layer into a NEW layer holding a coarse, adaptive, pure-quad "
+     "Catmull-Clark control mesh whose limit surface follows the input (Panozzo et al. 2011, "
+     "§3.2-3.4): triangle pairing to quads, control points that make the limit surface "
+     "interpolate the input, then a priority queue of diagonal collapses (cost |d| times the "
+     "S-fitmap at the patch centre's projection; refused where a patch would outgrow the "
+     "M-fitmap), valence-improving edge swaps, doublet removal and local fit + tangential "
+     "smoothing after each step. Uses the layer's Fitmaps (computing them if missing). The input "
+     "layer is not modified. A layer that is already quads is simplified as quads.",
+     MeshFilterInterface::Remeshing | MeshFilterInterface::Polygonal},
     {FP_FIT_AND_BAKE, "Fit Catmull-Clark Surface and Bake Displacement",
      "Fits the Catmull-Clark limit surface of the current pure-quad layer (the control mesh, "
      "e.g. from Fitmap Quad Simplification or any quad remesher) to a reference triangle layer "
@@ -91,6 +101,7 @@ int FilterFitmapQuadPlugin::postCondition(QAction* a) const {
   switch (ID(a)) {
     case FP_COMPUTE_FITMAPS:
       return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+    case FP_QUAD_SIMPLIFICATION:
     case FP_FIT_AND_BAKE:
     case FP_LOOP_REFINE:
       return MeshModel::MM_NONE;  // the input layers are not modified; new layers are added
@@ -105,6 +116,7 @@ int FilterFitmapQuadPlugin::postCondition(QAction* a) const {
 void FilterFitmapQuadPlugin::initParameterSet(QAction* a, MeshDocument& md, RichParameterList& par) {
   switch (ID(a)) {
     case FP_COMPUTE_FITMAPS: InitFitmapsParams(md, par); break;
+    case FP_QUAD_SIMPLIFICATION: InitQuadParams(md, par); break;
     case FP_FIT_AND_BAKE: InitFitParams(md, par); break;
     case FP_LOOP_REFINE: InitLoopRefineParams(md, par); break;
     case FP_LOOP_SNAP: InitLoopSnapParams(md, par); break;
@@ -123,6 +135,7 @@ bool FilterFitmapQuadPlugin::applyFilter(QAction* a, MeshDocument& md, const Ric
   try {
     switch (ID(a)) {
       case FP_COMPUTE_FITMAPS: return ApplyFitmaps(ctx);
+      case FP_QUAD_SIMPLIFICATION: return ApplyQuad(ctx);
       case FP_FIT_AND_BAKE: return ApplyFit(ctx);
       case FP_LOOP_REFINE: return ApplyLoopRefine(ctx);
       case FP_LOOP_SNAP: return ApplyLoopSnap(ctx);

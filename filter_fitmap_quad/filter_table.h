@@ -31,6 +31,11 @@ inline const char* kMaxRadiusPerc = "maxRadiusPerc";  ///< float, % of bbox diag
 inline const char* kChannel = "channel";              ///< enum: 0 = S-fitmap, 1 = M-fitmap
 inline const char* kColorize = "colorize";            ///< bool
 inline const char* kMode = "mode";                    ///< enum: 0 = fast, 1 = reference
+// Fitmap Quad Simplification (also kTau)
+inline const char* kTargetPatches = "targetPatches";      ///< int, 0 = until no feasible collapse
+inline const char* kUseMFitmap = "useMFitmap";            ///< bool
+inline const char* kEdgeSwaps = "edgeSwaps";              ///< bool
+inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)
 // Fit Catmull-Clark Surface and Bake Displacement
 inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)
 inline const char* kLimitSegments = "limitSegments";      ///< int, N per patch side

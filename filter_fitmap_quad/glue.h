@@ -35,6 +35,13 @@ void SetStageTimes(CMeshO& m, const StageTimes& t);
 // Compute Fitmaps (glue_fitmaps.cpp)
 void InitFitmapsParams(MeshDocument& md, RichParameterList& par);
 bool ApplyFitmaps(GlueContext& ctx);
+/// The tau the layer's FitmapS/FitmapM attributes were computed with (negative: none).
+double GetFitmapTau(CMeshO& m);
+void SetFitmapTau(CMeshO& m, double tau);
+
+// Fitmap Quad Simplification (glue_quad.cpp)
+void InitQuadParams(MeshDocument& md, RichParameterList& par);
+bool ApplyQuad(GlueContext& ctx);
 // Fit Catmull-Clark Surface and Bake Displacement (glue_fit.cpp)
 void InitFitParams(MeshDocument& md, RichParameterList& par);
 bool ApplyFit(GlueContext& ctx);

@@ -5,6 +5,18 @@ namespace fitmapquad {
 
 namespace {
 const char* kStageTimesAttr = "FitmapQuadStageTimes";
+const char* kTauAttr = "FitmapQuadTau";
+}
+
+double GetFitmapTau(CMeshO& m) {
+  auto h = vcg::tri::Allocator<CMeshO>::FindPerMeshAttribute<double>(m, kTauAttr);
+  if (!vcg::tri::Allocator<CMeshO>::IsValidHandle<double>(m, h)) return -1;
+  return h();
+}
+
+void SetFitmapTau(CMeshO& m, double tau) {
+  auto h = vcg::tri::Allocator<CMeshO>::GetPerMeshAttribute<double>(m, kTauAttr);
+  h() = tau;
 }
 
 StageTimes GetStageTimes(CMeshO& m) {

@@ -49,6 +49,8 @@ bool ApplyFitmaps(GlueContext& ctx) {
   if (!r.error.empty()) return ctx.Fail("Compute Fitmaps: " + r.error);
   double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
+  SetFitmapTau(mm.cm, p.tauPercent);
+  SetStageTimes(mm.cm, {{"fitmaps", secs}});
   const bool showM = ctx.par.getEnum(param::kChannel) == 1;
   mm.updateDataMask(MeshModel::MM_VERTQUALITY);
   vcgext::QualityFromAttribute(mm.cm, showM ? vcgext::kFitmapMAttr : vcgext::kFitmapSAttr);

@@ -1,42 +1,71 @@
 #!/usr/bin/env bash
 # The main job, for a newcomer on a fresh Debian 12 machine (as root):
-#   meshlab_scripts/run_pipeline.sh [--tau PCT] [INPUT] [OUTDIR]
+#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--normal-map] [INPUT] [OUTDIR]
 # Sets up whatever is missing (apt packages, MeshLab sources, build, plugin install, sample
-# scans), then runs the pipeline on INPUT (default: the bunny, bunny00.off) into OUTDIR
-# (default: out/):
-#   OUTDIR/fitmap.ply   the input with per-vertex quality = S-fitmap, colour-mapped
+# scans), then runs meshlab_scripts/pipeline.mlx through meshlabserver on INPUT (default: the
+# bunny scan bunny00.off) into OUTDIR (default: out/). tau defaults to 1 (percent).
+# Writes into OUTDIR:
+#   fitmap.ply             the input, per-vertex quality = S-fitmap, colour-mapped
+#   control.obj + .mtl     the fitted Catmull-Clark control mesh, real quads, per-wedge UVs
+#   control.ply            the same control mesh as a quad PLY (what MeshLab 2020.09 can open)
+#   limit.ply              the limit surface (8x8 per patch), quality = signed distance, coloured
+#   displaced.ply          the displaced limit surface, quality = signed distance, coloured
+#   displacement.png/.json 16-bit displacement atlas (one tile per patch) + scale/offset/layout
+#   normal.png             object-space normal map, same layout (with --normal-map)
+#   report.json            patches, irregular vertices, unprojectable area, RMS/max errors
+#                          (1/1000 of the bbox diagonal), time per stage, peak memory
+# and prints the report.
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 TAU=1
+NORMAL=false
 args=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --tau) TAU="$2"; shift 2 ;;
+    --tau) [ $# -ge 2 ] || { echo "run_pipeline: --tau takes a number (percent)" >&2; exit 2; }
+           TAU="$2"; shift 2 ;;
     --tau=*) TAU="${1#--tau=}"; shift ;;
-    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
+    --normal-map) NORMAL=true; shift ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -*) echo "run_pipeline: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) args+=("$1"); shift ;;
   esac
 done
-INPUT="${args[0]:-$REPO/.deps/data/meshes/bunny00.off}"
-OUTDIR="${args[1]:-out}"
+[ ${#args[@]} -le 2 ] || { echo "run_pipeline: too many arguments (see --help)" >&2; exit 2; }
 [[ "$TAU" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --tau takes a number (percent)" >&2; exit 2; }
 
 # FITMAP_SKIP_SETUP=1: use the existing build/install (the end-to-end tests do).
 [ "${FITMAP_SKIP_SETUP:-0}" = 1 ] || bash "$REPO/scripts/setup.sh"
+INPUT="${args[0]:-$REPO/.deps/data/meshes/bunny00.off}"
+OUTDIR="${args[1]:-out}"
 [ -f "$INPUT" ] || { echo "run_pipeline: input not found: $INPUT" >&2; exit 2; }
 INPUT=$(cd "$(dirname "$INPUT")" && pwd)/$(basename "$INPUT")
 mkdir -p "$OUTDIR"
 OUTDIR=$(cd "$OUTDIR" && pwd)
+rm -f "$OUTDIR"/{fitmap.ply,control.obj,control.mtl,control.ply,limit.ply,displaced.ply,displacement.png,displacement.json,normal.png,report.json}
 
-# The scripts in meshlab_scripts/ hold the defaults; only tau is substituted.
-mlx="$OUTDIR/.fitmaps.mlx"
-sed -E "s/value=\"[^\"]*\" name=\"tau\"/value=\"$TAU\" name=\"tau\"/" "$REPO/meshlab_scripts/fitmaps.mlx" > "$mlx"
-echo "[run_pipeline] Compute Fitmaps (tau = $TAU%) on $INPUT"
+# pipeline.mlx holds the defaults; tau, the normal map switch and the output folder are set here.
+mlx="$OUTDIR/.pipeline.mlx"
+sed -E -e "s|value=\"[^\"]*\" name=\"tau\"|value=\"$TAU\" name=\"tau\"|" \
+       -e "s|value=\"[^\"]*\" name=\"normalMap\"|value=\"$NORMAL\" name=\"normalMap\"|" \
+       -e "s|value=\"[^\"]*\" name=\"outputDir\"|value=\"$OUTDIR\" name=\"outputDir\"|" \
+       "$REPO/meshlab_scripts/pipeline.mlx" > "$mlx"
+echo "[run_pipeline] Fitmaps -> quad simplification -> Catmull-Clark fit + displacement (tau = $TAU%) on $INPUT"
 start=$(date +%s.%N)
-"$REPO/scripts/meshlabserver.sh" -i "$INPUT" -o "$OUTDIR/fitmap.ply" -m vq vc -s "$mlx" > "$OUTDIR/meshlab.log" 2>&1 || {
-  tail -30 "$OUTDIR/meshlab.log" >&2; echo "run_pipeline: meshlabserver failed (log: $OUTDIR/meshlab.log)" >&2; exit 1; }
-grep -q "Error:" "$OUTDIR/meshlab.log" && { grep "Error:" "$OUTDIR/meshlab.log" >&2; exit 1; }
+# Layers after the script: 0 input (Fitmaps), 1 control mesh, 2 fitted control, 3 limit, 4 displaced.
+if ! "$REPO/scripts/meshlabserver.sh" -i "$INPUT" -o "$OUTDIR/fitmap.ply" -l 0 -m vq vc \
+     -o "$OUTDIR/limit.ply" -l 3 -m vq vc -o "$OUTDIR/displaced.ply" -l 4 -m vq vc \
+     -s "$mlx" > "$OUTDIR/meshlab.log" 2>&1; then
+  grep -E "Error|error" "$OUTDIR/meshlab.log" | grep -v "trying to save" | sort -u >&2 || tail -30 "$OUTDIR/meshlab.log" >&2
+  echo "run_pipeline: meshlabserver failed (full log: $OUTDIR/meshlab.log)" >&2
+  exit 1
+fi
 end=$(date +%s.%N)
-grep -E "Compute Fitmaps" "$OUTDIR/meshlab.log" | sed 's/^/[meshlab] /' || true
-awk -v a="$start" -v b="$end" -v d="$OUTDIR" 'BEGIN { printf "[run_pipeline] wrote %s/fitmap.ply (%.1f s including meshlabserver start-up)\n", d, b - a }'
 rm -f "$mlx"
+grep -E "^(Compute Fitmaps|Fitmap Quad Simplification|Fit Catmull-Clark)" "$OUTDIR/meshlab.log" | sort -u | sed 's/^/[meshlab] /' || true
+for f in fitmap.ply control.obj control.ply limit.ply displaced.ply displacement.png displacement.json report.json; do
+  [ -s "$OUTDIR/$f" ] || { echo "run_pipeline: $OUTDIR/$f was not written (log: $OUTDIR/meshlab.log)" >&2; exit 1; }
+done
+echo "[run_pipeline] report ($OUTDIR/report.json):"
+cat "$OUTDIR/report.json"
+awk -v a="$start" -v b="$end" -v d="$OUTDIR" 'BEGIN { printf "[run_pipeline] outputs in %s (%.1f s wall including meshlabserver start-up and file output)\n", d, b - a }'

@@ -1,0 +1,120 @@
+// Glue for "Fitmap Quad Simplification" (paper §3.2–3.4): current triangle (or quad) layer +
+// its Fitmaps -> a NEW layer with the adaptive pure-quad control mesh. The input is not modified.
+#include <QString>
+
+#include <chrono>
+#include <sstream>
+
+#include "filter_table.h"
+#include "glue.h"
+#include "vcg_ext/core/vcg_bridge.h"
+#include "vcg_ext/fitmaps/fitmaps.h"
+#include "vcg_ext/quad/quad_simplify.h"
+
+namespace fitmapquad {
+
+void InitQuadParams(MeshDocument& /*md*/, RichParameterList& par) {
+  const vcgext::QuadSimplifyParams d;
+  par.addParam(RichFloat(param::kTau, float(vcgext::FitmapParams().tauPercent), "Tolerance tau (%)",
+                         "M-fitmap tolerance. The layer's Fitmaps are used when they were computed "
+                         "with this tau; otherwise they are computed (default radii, fast mode) "
+                         "without modifying the layer."));
+  par.addParam(RichInt(param::kTargetPatches, d.targetPatches, "Target patches (0 = automatic)",
+                       "Stop at this many patches; 0 simplifies until no feasible collapse is left "
+                       "(the paper's halting criterion)."));
+  par.addParam(RichBool(param::kUseMFitmap, d.useMFitmap, "M-fitmap test",
+                        "Refuse collapses that make a patch larger than the M-fitmap allows "
+                        "(projectability). Off: only the S-fitmap cost; needs a target count."));
+  par.addParam(RichBool(param::kEdgeSwaps, d.edgeSwaps, "Edge swaps",
+                        "Valence-improving edge swaps after each collapse (fewer irregular vertices)."));
+  par.addParam(RichBool(param::kValidate, d.validateEveryOperation, "Validate every operation (slow)",
+                        "Test mode: full mesh validity check after every local operation."));
+}
+
+bool ApplyQuad(GlueContext& ctx) {
+  MeshModel& in = *ctx.md.mm();
+  const auto t0 = std::chrono::steady_clock::now();
+  vcgext::QuadSimplifyParams p;
+  const double tau = ctx.par.getFloat(param::kTau);
+  p.targetPatches = ctx.par.getInt(param::kTargetPatches);
+  p.useMFitmap = ctx.par.getBool(param::kUseMFitmap);
+  p.edgeSwaps = ctx.par.getBool(param::kEdgeSwaps);
+  p.validateEveryOperation = ctx.par.getBool(param::kValidate);
+  if (!(tau >= 0 && tau <= 100)) return ctx.Fail("tau must be in [0, 100] percent");
+  if (p.targetPatches < 0) return ctx.Fail("target patches must be >= 0");
+  if (!p.useMFitmap && p.targetPatches == 0)
+    return ctx.Fail("without the M-fitmap test a target patch count is needed (it would collapse everything)");
+
+  // The layer as triangles; a quad layer (faux edges) is simplified as quads.
+  int faux = 0;
+  for (const auto& f : in.cm.face)
+    if (!f.IsD())
+      for (int k = 0; k < 3; ++k) faux += f.IsF(k) ? 1 : 0;
+  vcgext::TriData tri;
+  vcgext::ImportReport rep = vcgext::ImportTriangles(in.cm, tri, /*allowPolygonal=*/faux > 0);
+  if (!rep.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + rep.error);
+  vcgext::QuadData given;
+  if (faux > 0) {
+    std::string err = vcgext::ImportQuads(in.cm, given);
+    if (!err.empty()) return ctx.Fail("Fitmap Quad Simplification: the layer has polygons but " + err);
+  }
+  vcgext::EmbreeScene scene(tri);
+  if (!scene.Ok()) return ctx.Fail(scene.Error());
+
+  // Fitmaps: from the layer if computed with this tau, else computed here (layer untouched).
+  std::vector<double> S, M;
+  StageTimes times = GetStageTimes(in.cm);
+  auto hS = vcg::tri::Allocator<CMeshO>::FindPerVertexAttribute<float>(in.cm, vcgext::kFitmapSAttr);
+  auto hM = vcg::tri::Allocator<CMeshO>::FindPerVertexAttribute<float>(in.cm, vcgext::kFitmapMAttr);
+  const bool have = vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hS) &&
+                    vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hM) &&
+                    std::abs(GetFitmapTau(in.cm) - tau) < 1e-6;
+  if (have) {
+    for (auto& v : in.cm.vert)
+      if (!v.IsD()) { S.push_back(hS[v]); M.push_back(hM[v]); }
+    ctx.log("Fitmap Quad Simplification: using the layer's Fitmaps (tau = " + std::to_string(tau) + "%)");
+  } else {
+    vcgext::FitmapParams fp;
+    fp.tauPercent = tau;
+    vcgext::FitmapResult fr = vcgext::ComputeFitmaps(tri, scene, fp, ctx.cb);
+    if (!fr.error.empty()) return ctx.Fail("Fitmap Quad Simplification: Fitmaps: " + fr.error);
+    S = fr.S;
+    M = fr.M;
+    times = {{"fitmaps", fr.seconds}};
+    ctx.log("Fitmap Quad Simplification: computed Fitmaps (tau = " + std::to_string(tau) + "%) in " +
+            std::to_string(fr.seconds) + " s");
+  }
+
+  vcgext::QuadSimplifyResult r =
+      vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, faux > 0 ? &given.F : nullptr);
+  if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
+
+  char name[128];
+  snprintf(name, sizeof name, "%s quads tau=%g%%", in.label().toStdString().c_str(), tau);
+  MeshModel* out = ctx.md.addNewMesh("", name, true);
+  out->updateDataMask(MeshModel::MM_POLYGONAL);
+  vcgext::ExportQuads(r.quads, out->cm);
+  out->UpdateBoxAndNormals();
+  times.push_back({"tri_to_quad", r.secondsTriToQuad});
+  times.push_back({"initial_fit", r.secondsInitialFit});
+  times.push_back({"simplification", r.secondsSimplify});
+  SetStageTimes(out->cm, times);
+
+  std::ostringstream log;
+  log << "Fitmap Quad Simplification: " << r.initialPatches << " -> " << r.patches << " patches, "
+      << r.irregularVertices << " irregular vertices; tri-to-quad: " << vcgext::quad::ToString(r.triToQuadPath)
+      << "; valences:";
+  for (size_t v = 0; v < r.valenceHistogram.size(); ++v)
+    if (r.valenceHistogram[v]) log << " " << v << ":" << r.valenceHistogram[v];
+  log << "; " << r.collapses << " collapses, " << r.swaps << " swaps, " << r.doublets << " doublets, "
+      << r.boundaryCorners << " boundary corners; refused: " << r.rejectedByM << " by the M-fitmap, "
+      << r.rejectedTopology << " by topology, " << r.rejectedFlip << " by flips; final flipped patches "
+      << r.flippedPatches << "; time: tri-to-quad " << r.secondsTriToQuad << " s, initial fit "
+      << r.secondsInitialFit << " s, simplification " << r.secondsSimplify << " s, total "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s";
+  ctx.log(log.str());
+  if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);
+  return true;
+}
+
+}  // namespace fitmapquad
