@@ -192,3 +192,38 @@ TEST(QuadSimplify, BadInput) {
   auto r4 = vcgext::SimplifyToQuads(t, scene, S, badM, {});
   EXPECT_NE(r4.error, "");
 }
+
+TEST(QuadSimplify, VcgEntryPointAndPolygonalRoundTrip) {
+  auto g = quadtest::CubeSphere(5);
+  // quads -> vcg polygonal layer (faux diagonals) -> recognised as quads again
+  vcgext::TMesh poly;
+  vcgext::QuadsToPolygonalMesh(g, poly);
+  ASSERT_EQ(poly.fn, int(2 * g.F.size()));
+  vcgext::TriData data;
+  ASSERT_EQ(vcgext::ImportTriangles(poly, data, true).error, "");
+  std::vector<vcgext::Quad> quads;
+  ASSERT_TRUE(vcgext::PolygonalQuads(poly, data, quads));
+  ASSERT_EQ(quads.size(), g.F.size());
+  vcgext::quad::QuadMesh qm(data.V, quads);
+  EXPECT_EQ(qm.Check(), "");
+  // no Fitmaps yet: a clear error
+  auto r0 = vcgext::SimplifyToQuads(poly, vcgext::QuadSimplifyParams{});
+  EXPECT_NE(r0.error.find("Fitmaps"), std::string::npos) << r0.error;
+  auto hS = vcg::tri::Allocator<vcgext::TMesh>::GetPerVertexAttribute<float>(poly, "FitmapS");
+  auto hM = vcg::tri::Allocator<vcgext::TMesh>::GetPerVertexAttribute<float>(poly, "FitmapM");
+  for (auto& v : poly.vert) { hS[v] = 1.0f; hM[v] = 1.0f; }
+  auto r = vcgext::SimplifyToQuads(poly, vcgext::QuadSimplifyParams{});
+  ASSERT_EQ(r.error, "");
+  EXPECT_EQ(r.triToQuadPath, vcgext::quad::TriToQuadPath::AlreadyQuads);
+  EXPECT_EQ(r.initialPatches, int(g.F.size()));
+  EXPECT_LT(r.patches, r.initialPatches);
+  // a plain triangle layer goes through tri-to-quad
+  vcgext::TMesh tri;
+  testsupport::ToVcg(testsupport::Icosphere(2), tri);
+  auto tS = vcg::tri::Allocator<vcgext::TMesh>::GetPerVertexAttribute<float>(tri, "FitmapS");
+  auto tM = vcg::tri::Allocator<vcgext::TMesh>::GetPerVertexAttribute<float>(tri, "FitmapM");
+  for (auto& v : tri.vert) { tS[v] = 1.0f; tM[v] = 1.0f; }
+  auto rt = vcgext::SimplifyToQuads(tri, vcgext::QuadSimplifyParams{});
+  ASSERT_EQ(rt.error, "");
+  EXPECT_EQ(rt.triToQuadPath, vcgext::quad::TriToQuadPath::Pairing);
+}

@@ -19,11 +19,14 @@
 ///  5. a step is undone if it would break manifoldness/topology (QuadMesh operators) or flip a
 ///     patch against the input (limit normal at the patch centre vs input normal at the hit).
 /// Halts when no feasible collapse is left or at `targetPatches`.
+#include <array>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <cstring>  // wrap/callback.h uses strcpy without including it
 #include <wrap/callback.h>
+#include <vcg/complex/complex.h>
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/indexed_mesh.h"
@@ -85,8 +88,111 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
                                    vcg::CallBackPos* cb = nullptr, const std::vector<Quad>* initialQuads = nullptr);
 
+/// Quads encoded in a vcg triangle layer the MeshLab way (triangle pairs whose shared edge is
+/// faux), indexed like the TriData that ImportTriangles(m, data, true) produces. Returns false
+/// (and leaves `quads` empty) if the faux edges do not pair every live triangle into a quad.
+template <class MeshType>
+bool PolygonalQuads(const MeshType& m, const TriData& data, std::vector<Quad>& quads);
+
+/// Writes a quad mesh into a vcg triangle mesh as MeshLab polygons: two triangles per quad, the
+/// diagonal (corner 2 -> corner 0) flagged faux in both. `out` is cleared first. The caller
+/// updates normals/topology/bbox as its framework requires.
+template <class MeshType>
+void QuadsToPolygonalMesh(const QuadData& q, MeshType& out);
+
+/// vcg entry point: reads the per-vertex float attributes `sAttr` / `mAttr` (as written by
+/// vcgext::ComputeFitmaps: "FitmapS", "FitmapM"; this library does not compute them), builds the
+/// Embree scene and simplifies. A polygonal layer whose faux edges pair all triangles into quads
+/// is simplified as quads (path AlreadyQuads), any other layer goes through tri-to-quad. The
+/// input mesh is not modified. Errors as SimplifyToQuads, plus missing attributes.
+template <class MeshType>
+QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& p, vcg::CallBackPos* cb = nullptr,
+                                   const char* sAttr = "FitmapS", const char* mAttr = "FitmapM");
+
 /// Counts non-manifold edges (more than two faces or inconsistent orientation) and non-manifold
 /// vertices (fan not a single disk/half-disk) of a triangle mesh.
 void CountNonManifold(const TriData& m, int* nonManifoldEdges, int* nonManifoldVertices);
+
+// ---------------------------------------------------------------------------- templates
+template <class MeshType>
+bool PolygonalQuads(const MeshType& m, const TriData& data, std::vector<Quad>& quads) {
+  quads.clear();
+  // faux flags per imported triangle (same traversal and filtering as ImportTriangles)
+  std::vector<std::array<bool, 3>> faux;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    const auto* v0 = f.cV(0); const auto* v1 = f.cV(1); const auto* v2 = f.cV(2);
+    if (v0 == v1 || v1 == v2 || v0 == v2) continue;
+    faux.push_back({f.IsF(0), f.IsF(1), f.IsF(2)});
+  }
+  if (faux.size() != data.F.size()) return false;
+  std::map<std::pair<int, int>, std::pair<int, int>> he;  // directed edge -> (triangle, corner)
+  for (size_t t = 0; t < data.F.size(); ++t)
+    for (int k = 0; k < 3; ++k) he[{data.F[t][k], data.F[t][(k + 1) % 3]}] = {int(t), k};
+  std::vector<char> used(data.F.size(), 0);
+  for (size_t t = 0; t < data.F.size(); ++t) {
+    int nf = int(faux[t][0]) + int(faux[t][1]) + int(faux[t][2]);
+    if (nf != 1) { quads.clear(); return false; }
+    if (used[t]) continue;
+    int k = faux[t][0] ? 0 : faux[t][1] ? 1 : 2;
+    int a = data.F[t][k], b = data.F[t][(k + 1) % 3], c = data.F[t][(k + 2) % 3];
+    auto it = he.find({b, a});
+    if (it == he.end()) { quads.clear(); return false; }
+    int u = it->second.first, ku = it->second.second;
+    if (used[u] || !faux[u][ku]) { quads.clear(); return false; }
+    int d = data.F[u][(ku + 2) % 3];
+    quads.push_back({a, d, b, c});
+    used[t] = used[u] = 1;
+  }
+  return true;
+}
+
+template <class MeshType>
+void QuadsToPolygonalMesh(const QuadData& q, MeshType& out) {
+  out.Clear();
+  auto vi = vcg::tri::Allocator<MeshType>::AddVertices(out, q.V.size());
+  for (size_t i = 0; i < q.V.size(); ++i, ++vi)
+    vi->P() = typename MeshType::CoordType(typename MeshType::ScalarType(q.V[i][0]),
+                                           typename MeshType::ScalarType(q.V[i][1]),
+                                           typename MeshType::ScalarType(q.V[i][2]));
+  auto fi = vcg::tri::Allocator<MeshType>::AddFaces(out, q.F.size() * 2);
+  for (const Quad& f : q.F) {
+    fi->V(0) = &out.vert[f[0]]; fi->V(1) = &out.vert[f[1]]; fi->V(2) = &out.vert[f[2]];
+    fi->ClearF(0); fi->ClearF(1); fi->SetF(2);
+    ++fi;
+    fi->V(0) = &out.vert[f[0]]; fi->V(1) = &out.vert[f[2]]; fi->V(2) = &out.vert[f[3]];
+    fi->SetF(0); fi->ClearF(1); fi->ClearF(2);
+    ++fi;
+  }
+}
+
+template <class MeshType>
+QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& p, vcg::CallBackPos* cb,
+                                   const char* sAttr, const char* mAttr) {
+  QuadSimplifyResult res;
+  TriData data;
+  ImportReport rep = ImportTriangles(m, data, /*allowPolygonal=*/true);
+  if (!rep.error.empty()) { res.error = rep.error; return res; }
+  MeshType& mm = const_cast<MeshType&>(m);  // attribute lookup is non-const in vcglib; nothing is written
+  auto hS = vcg::tri::Allocator<MeshType>::template FindPerVertexAttribute<float>(mm, sAttr);
+  auto hM = vcg::tri::Allocator<MeshType>::template FindPerVertexAttribute<float>(mm, mAttr);
+  if (!vcg::tri::Allocator<MeshType>::template IsValidHandle<float>(mm, hS) ||
+      !vcg::tri::Allocator<MeshType>::template IsValidHandle<float>(mm, hM)) {
+    res.error = std::string("the layer has no Fitmaps (per-vertex attributes ") + sAttr + " / " + mAttr +
+                "): compute the Fitmaps first";
+    return res;
+  }
+  std::vector<double> S, M;
+  for (const auto& v : m.vert) {
+    if (v.IsD()) continue;
+    S.push_back(double(hS[v]));
+    M.push_back(double(hM[v]));
+  }
+  std::vector<Quad> quads;
+  bool polygonal = PolygonalQuads(m, data, quads);
+  EmbreeScene scene(data);
+  if (!scene.Ok()) { res.error = scene.Error(); return res; }
+  return SimplifyToQuads(data, scene, S, M, p, cb, polygonal ? &quads : nullptr);
+}
 
 }  // namespace vcgext
