@@ -65,9 +65,11 @@ bool QuadMesh::Fan(int v, std::vector<Wedge>& out, bool* open) const {
   Wedge* w = tmp;
   if (m > 64) { big.resize(m); w = big.data(); }
   for (int i = 0; i < m; ++i) {
-    int f = l[i], k = CornerOf(f, v);
+    const int f = l[i];
+    const Quad& q = F[f];
+    const int k = q[0] == v ? 0 : q[1] == v ? 1 : q[2] == v ? 2 : q[3] == v ? 3 : -1;
     if (k < 0) return false;
-    w[i] = {f, k, F[f][(k + 1) & 3], F[f][(k + 2) & 3], F[f][(k + 3) & 3]};
+    w[i] = {f, k, q[(k + 1) & 3], q[(k + 2) & 3], q[(k + 3) & 3]};
   }
   // n's distinct, p's distinct (each directed edge once)
   for (int i = 0; i < m; ++i)

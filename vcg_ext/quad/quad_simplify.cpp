@@ -213,10 +213,17 @@ class Simplifier {
     return quad::SolveInterpolationGlobal(K, targets, tol_);
   }
 
+  // Limit positions cached between steps (used by Cost and MTest only, which run on committed
+  // states); invalidated for the 1-ring of W after each committed step.
+  const Vec3& Lim(int v) const {
+    if (!limOk_[v]) { lim_[v] = quad::VertexLimit(K, v); limOk_[v] = 1; }
+    return lim_[v];
+  }
+
   double Cost(int f, int k, const FaceInfo& fi) const {
     int a = K.F[f][k], c = K.F[f][k + 2];
     if (K.IsBoundary(a) && K.IsBoundary(c)) return -1;
-    double d = (quad::VertexLimit(K, a) - quad::VertexLimit(K, c)).norm();
+    double d = (Lim(a) - Lim(c)).norm();
     return d * (fi.S + 1e-9 / std::max(diag_, 1e-300));
   }
 
@@ -234,7 +241,7 @@ class Simplifier {
   // M-fitmap test (§3.3): every patch the collapse enlarges keeps diameter <= F_M at its centre.
   bool MTest(int f, int k) const {
     int a = K.F[f][k], c = K.F[f][k + 2];
-    Vec3 la = quad::VertexLimit(K, a), lc = quad::VertexLimit(K, c);
+    Vec3 la = Lim(a), lc = Lim(c);
     Vec3 merged = K.IsBoundary(a) ? la : K.IsBoundary(c) ? lc : Vec3(0.5 * (la + lc));
     for (int v : {a, c})
       for (int g : K.VF(v)) {
@@ -242,7 +249,7 @@ class Simplifier {
         Vec3 q[4];
         for (int j = 0; j < 4; ++j) {
           int x = K.F[g][j];
-          q[j] = (x == a || x == c) ? merged : quad::VertexLimit(K, x);
+          q[j] = (x == a || x == c) ? merged : Lim(x);
         }
         Vec3 ctr = 0.25 * (q[0] + q[1] + q[2] + q[3]);
         double diam = 0;
@@ -382,6 +389,8 @@ class Simplifier {
     }
     if (badAfter > 0 && badAfter >= badBefore) { K.Rollback(); return 2; }
     K.Commit();
+    for (int g : region_)
+      for (int j = 0; j < 4; ++j) limOk_[K.F[g][j]] = 0;  // all of ring1(W)
     for (size_t i = 0; i < region_.size(); ++i) info_[region_[i]] = newInfo_[i];
     for (size_t i = 0; i < W.size(); ++i) vok_[W[i]] = newVok_[i];
     // re-queue faces whose cost may have changed
@@ -405,6 +414,8 @@ class Simplifier {
 #pragma omp parallel for schedule(dynamic, 256)
     for (long i = 0; i < long(alive.size()); ++i) info_[alive[i]] = EvalFace(alive[i]);
     vok_.assign(nv, 1);
+    lim_.assign(nv, Vec3::Zero());
+    limOk_.assign(nv, 0);
 #pragma omp parallel for schedule(dynamic, 256)
     for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v) ? 1 : 0;
     for (int f : alive) Push(f);
@@ -471,6 +482,8 @@ class Simplifier {
   std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
   std::vector<FaceInfo> info_, newInfo_;
   std::vector<char> vok_, newVok_;
+  mutable std::vector<Vec3> lim_;
+  mutable std::vector<char> limOk_;
   std::vector<unsigned> stamp_;
   std::vector<unsigned> fmarkOf_, vmarkOf_;
   unsigned fmark_ = 0, vmark_ = 0;
