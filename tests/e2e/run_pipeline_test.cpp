@@ -11,7 +11,7 @@ namespace {
 
 std::string Pipeline() { return e2e::Q(e2e::Script("run_pipeline.sh")); }
 
-TEST(RunPipeline, WritesColourMappedFitmapOnElephant) {
+TEST(RunPipeline, WritesColourMappedFitmapOnElephant) {  // the first output, checked in detail
   const std::string outdir = e2e::OutPath("pipeline_elephant");
   auto r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " --tau 5 " +
                     e2e::Q(testsupport::SamplePath("elephant.off")) + " " + e2e::Q(outdir));
