@@ -40,10 +40,10 @@ struct FitmapParams {
   int fastPointsPerFit = 40;
   /// Fast mode: target points of the per-vertex S fits at the radii >= r_h / 6 (the ones that
   /// carry the S-fitmap: E(r_i) weighs (r_i / r_h)^4 in a).
-  int fastPointsPerSFit = 160;
+  int fastPointsPerSFit = 48;
   /// Fast mode: the per-vertex S fits run at the points of this hierarchy level (their own
   /// frames) and are interpolated to the other vertices; 0 = at every vertex (slower).
-  int fastSLevel = 1;
+  int fastSLevel = 0;
   /// Fast mode: sampled surface points per neighbourhood for the flipped-share estimate.
   int fastFlipSamples = 16;
   /// Reference mode: the M-fitmap's sample count is referenceSampleFactor * n_M |B| / |M|
