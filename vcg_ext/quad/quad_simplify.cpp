@@ -564,10 +564,23 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     if (!sim.Run(cb)) return res;
     if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
   }
-  if (params.finalReinterpolation && res.collapses > 0) sim.Reinterpolate();
-  res.secondsSimplify = Since(t2);
   res.flippedPatches = sim.CountFlipped();
   res.flippedVertices = sim.CountFlippedVertices();
+  if (params.finalReinterpolation && res.collapses > 0) {
+    // kept only if it does not add normal disagreements (it moves every control point)
+    std::vector<Vec3> before = sim.K.P;
+    sim.Reinterpolate();
+    int fp = sim.CountFlipped(), fv = sim.CountFlippedVertices();
+    if (fp + fv > res.flippedPatches + res.flippedVertices) {
+      sim.K.P = before;
+      res.message += std::string(res.message.empty() ? "" : "; ") +
+                     "final re-interpolation skipped (it would flip patches)";
+    } else {
+      res.flippedPatches = fp;
+      res.flippedVertices = fv;
+    }
+  }
+  res.secondsSimplify = Since(t2);
   res.quads = sim.K.ToQuadData();
   res.patches = sim.K.NumFaces();
   res.valenceHistogram = sim.K.ValenceHistogram(&res.irregularVertices);
