@@ -141,7 +141,10 @@ void Evaluate(const Context& ctx, const Level& lv, const EvalSpec& e, int iBegin
   const Vec3 origin = m.V[vFine];
   if (s.perLevel.size() <= size_t(lv.index)) s.perLevel.resize(lv.index + 1);
   GatherScratch& gs = s.perLevel[lv.index];
-  GatherMinimax(lv.adj, lv.X, e.start, rMax, gs, s.gathered, size_t(-1), &origin);
+  if (iEnd - iBegin == 1)
+    GatherBall(lv.adj, lv.X, e.start, rMax, gs, s.gathered, &origin);
+  else
+    GatherMinimax(lv.adj, lv.X, e.start, rMax, gs, s.gathered, size_t(-1), &origin);
   const Frame fr = Frame::Make(origin, n);
   s.local.resize(s.gathered.size());
   for (size_t k = 0; k < s.gathered.size(); ++k) s.local[k] = fr.Local(lv.X[s.gathered[k].first]);
@@ -612,13 +615,14 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
       levelOf[i] = l;
     }
     res.levels = int(levels.size());
-    // E(r_i) enters a with weight (r_i/r_h)^4: radii below r_h/6 weigh < 0.08% each, so they
+    // E(r_i) enters a with weight (r_i/r_h)^4: radii below r_h/2.5 weigh < 2.6% each (and their
+    // E is much smaller than E(r_h)), so they
     // are interpolated from the level points like the flipped shares; the larger ones are
     // fitted per vertex in the vertex's own frame (the frame matters most there).
     std::vector<char> perVertexS(H, 0);
     std::vector<int> levelS(H, 0);
     for (int i = 0; i < H; ++i) {
-      if (levelOf[i] == 0 || ctx.radii[i] < rh / 6.0) continue;
+      if (levelOf[i] == 0 || ctx.radii[i] < rh / 2.5) continue;
       perVertexS[i] = 1;
       // the per-vertex S fits use more points than the M estimates (fastPointsPerSFit)
       const double r = ctx.radii[i];

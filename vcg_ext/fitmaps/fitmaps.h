@@ -38,9 +38,9 @@ struct FitmapParams {
   /// on the coarsest level of a vertex hierarchy whose neighbourhood of radius r_i still holds
   /// about this many points, and interpolated to the vertices (see docs/fitmaps.md).
   int fastPointsPerFit = 40;
-  /// Fast mode: target points of the per-vertex S fits at the radii >= r_h / 6 (the ones that
+  /// Fast mode: target points of the per-vertex S fits at the radii >= r_h / 2.5 (the ones that
   /// carry the S-fitmap: E(r_i) weighs (r_i / r_h)^4 in a).
-  int fastPointsPerSFit = 48;
+  int fastPointsPerSFit = 96;
   /// Fast mode: the per-vertex S fits run at the points of this hierarchy level (their own
   /// frames) and are interpolated to the other vertices; 0 = at every vertex (slower).
   int fastSLevel = 0;

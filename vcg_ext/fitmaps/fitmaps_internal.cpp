@@ -164,6 +164,33 @@ void GatherMinimax(const Adjacency& adj, const std::vector<Vec3>& X, int src, do
   for (int i : s.touched) s.key[i] = std::sqrt(s.key[i]);
 }
 
+void GatherBall(const Adjacency& adj, const std::vector<Vec3>& X, int src, double r, GatherScratch& s,
+                std::vector<std::pair<int, double>>& out, const Vec3* center) {
+  s.Reset(X.size());
+  out.clear();
+  const Vec3 p = center ? *center : X[src];
+  const double r2 = r * r;
+  const double d0 = (X[src] - p).squaredNorm();
+  if (d0 > r2) return;
+  s.key[src] = d0;
+  s.touched.push_back(src);
+  out.emplace_back(src, d0);
+  for (size_t head = 0; head < out.size(); ++head) {
+    const int q = out[head].first;
+    for (const int* it = adj.Begin(q); it != adj.End(q); ++it) {
+      const int nb = *it;
+      if (s.key[nb] != std::numeric_limits<double>::infinity()) continue;
+      const double d2 = (X[nb] - p).squaredNorm();
+      if (d2 > r2) continue;
+      s.key[nb] = d2;
+      s.touched.push_back(nb);
+      out.emplace_back(nb, d2);
+    }
+  }
+  for (auto& o : out) o.second = std::sqrt(o.second);
+  for (int i : s.touched) s.key[i] = std::sqrt(s.key[i]);
+}
+
 Rng::Rng(uint64_t seed, uint64_t a, uint64_t b) {
   state = seed * 0x9E3779B97F4A7C15ull ^ (a + 0x632BE59BD9B4E019ull) * 0xBF58476D1CE4E5B9ull ^
           (b + 0x2545F4914F6CDD1Dull) * 0x94D049BB133111EBull;

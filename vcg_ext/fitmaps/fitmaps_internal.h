@@ -81,6 +81,12 @@ void GatherMinimax(const Adjacency& adj, const std::vector<Vec3>& X, int src, do
                    GatherScratch& s, std::vector<std::pair<int, double>>& out,
                    size_t maxCount = size_t(-1), const Vec3* center = nullptr);
 
+/// The neighbourhood of one radius only: a plain breadth-first traversal restricted to the ball
+/// of radius r around `center` (default X[src]); the same vertex set as GatherMinimax's prefix
+/// with key <= r, without the priority queue. Keys are the vertices' own distances (unordered).
+void GatherBall(const Adjacency& adj, const std::vector<Vec3>& X, int src, double r, GatherScratch& s,
+                std::vector<std::pair<int, double>>& out, const Vec3* center = nullptr);
+
 /// Deterministic per-(seed, a, b) random stream (splitmix64).
 struct Rng {
   uint64_t state;
