@@ -71,7 +71,6 @@ bool VertexLimitFrame(const QuadMesh& m, int v, Vec3* pos, Vec3* normal) {
   return true;
 }
 
-namespace {
 // Catmull-Clark vertex point of control vertex v (one refinement step).
 Vec3 VertexPoint(const QuadMesh& m, int v) {
   std::vector<Wedge>& w = tlFan;
@@ -88,19 +87,24 @@ Vec3 VertexPoint(const QuadMesh& m, int v) {
   R /= n;
   return (Q + 2.0 * R + (n - 3.0) * m.P[v]) / n;
 }
-}  // namespace
 
 bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal) {
   if (!m.FaceAlive(f)) return false;
+  Vec3 V[4];
+  for (int k = 0; k < 4; ++k) V[k] = VertexPoint(m, m.F[f][k]);
+  return FaceCentreLimit(m, f, V, pos, normal);
+}
+
+bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 V[4], Vec3* pos, Vec3* normal) {
+  if (!m.FaceAlive(f)) return false;
   const Quad& q = m.F[f];
   const Vec3 Fp = m.Centroid(f);
-  Vec3 E[4], V[4];
+  Vec3 E[4];
   for (int k = 0; k < 4; ++k) {
     const Vec3& a = m.P[q[k]];
     const Vec3& b = m.P[q[(k + 1) & 3]];
     int g = m.AcrossEdge(f, k);
     E[k] = g < 0 ? Vec3(0.5 * (a + b)) : Vec3(0.25 * (a + b + Fp + m.Centroid(g)));
-    V[k] = VertexPoint(m, q[k]);
   }
   if (pos) *pos = (16.0 * Fp + 4.0 * (E[0] + E[1] + E[2] + E[3]) + (V[0] + V[1] + V[2] + V[3])) / 36.0;
   if (normal) {

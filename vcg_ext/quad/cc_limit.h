@@ -29,6 +29,12 @@ bool VertexLimitFrame(const QuadMesh& m, int v, Vec3* pos, Vec3* normal);
 /// (16 F + 4 sum E_k + sum V_k) / 36 (F the face point, E_k the edge points of the face's edges,
 /// V_k the vertex points of its corners). Returns false for a dead face or a degenerate normal.
 bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal);
+/// Same, with the Catmull-Clark vertex points of the face's 4 corners supplied by the caller
+/// (VertexPoint), so that neighbouring faces share them.
+bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 vertexPoints[4], Vec3* pos, Vec3* normal);
+/// Catmull-Clark vertex point (one refinement step) of control vertex v: interior
+/// (Q + 2R + (n-3) v)/n, boundary (v_prev + 6 v + v_next)/8.
+Vec3 VertexPoint(const QuadMesh& m, int v);
 
 /// Outcome of an interpolation solve.
 struct InterpolationStats {

@@ -147,10 +147,10 @@ class Simplifier {
     return true;
   }
 
-  FaceInfo EvalFace(int f) const {
+  FaceInfo EvalFace(int f, const Vec3* vp = nullptr) const {
     FaceInfo fi;
     Vec3 n;
-    if (!quad::FaceCentreLimit(K, f, &fi.c, &n)) return fi;
+    if (!(vp ? quad::FaceCentreLimit(K, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
     if (!Project(fi.c, n, &fi, nullptr)) {
       // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
       EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
@@ -274,10 +274,11 @@ class Simplifier {
         for (int j = 0; j < 4; ++j) add(K.F[g][j]);
   }
 
-  void LocalFit(const std::vector<int>& W) {
+  void LocalFit(const std::vector<int>& W, int rounds = -1) {
     std::vector<Vec3> newP(W.size()), targets(W.size());
     std::vector<quad::Wedge> fan;
-    for (int round = 0; round < p_.fitRounds; ++round) {
+    if (rounds < 0) rounds = p_.fitRounds;
+    for (int round = 0; round < rounds; ++round) {
       for (size_t i = 0; i < W.size(); ++i) {
         int v = W[i];
         Vec3 avg = Vec3::Zero();
@@ -375,8 +376,15 @@ class Simplifier {
         if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; region_.push_back(g); }
     int badBefore = info_[f].ok ? 0 : 1, badAfter = 0;
     newInfo_.resize(region_.size());
+    ++vpEpoch_;
     for (size_t i = 0; i < region_.size(); ++i) {
-      newInfo_[i] = EvalFace(region_[i]);
+      Vec3 vp[4];
+      for (int k = 0; k < 4; ++k) {
+        int x = K.F[region_[i]][k];
+        if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
+        vp[k] = vp_[x];
+      }
+      newInfo_[i] = EvalFace(region_[i], vp);
       badBefore += info_[region_[i]].ok ? 0 : 1;
       badAfter += newInfo_[i].ok ? 0 : 1;
     }
@@ -415,6 +423,8 @@ class Simplifier {
     for (long i = 0; i < long(alive.size()); ++i) info_[alive[i]] = EvalFace(alive[i]);
     vok_.assign(nv, 1);
     lim_.assign(nv, Vec3::Zero());
+    vp_.assign(nv, Vec3::Zero());
+    vpStamp_.assign(nv, 0);
     limOk_.assign(nv, 0);
 #pragma omp parallel for schedule(dynamic, 256)
     for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v) ? 1 : 0;
@@ -447,6 +457,44 @@ class Simplifier {
       prog(100.0 * (initial - K.NumFaces()) / std::max(1, initial), "Quad simplification");
     }
     return true;
+  }
+
+  // Final cleanup of normal disagreements that survived (pre-existing ones on noisy scans may
+  // persist: a step only has to lower their count). Around each bad vertex / patch, extra
+  // smoothing + re-interpolation rounds on a 2-ring; kept only if the region gets better.
+  // Returns the number of regions improved.
+  int FixFlips() {
+    int improved = 0;
+    std::vector<int> seeds;
+    for (int v = 0; v < K.NumVertexSlots(); ++v)
+      if (K.VertAlive(v) && !VertexOk(v)) seeds.push_back(v);
+    for (int f = 0; f < K.NumFaceSlots(); ++f)
+      if (K.FaceAlive(f) && !EvalFace(f).ok) seeds.push_back(K.F[f][0]);
+    std::vector<int> W1, W;
+    for (int seed : seeds) {
+      for (int rounds : {2, 4, 8}) {
+        CollectRing({seed}, W1);
+        CollectRing(W1, W);
+        auto count = [&]() {
+          int bad = 0;
+          ++fmark_;
+          for (int v : W) {
+            bad += VertexOk(v) ? 0 : 1;
+            for (int g : K.VF(v))
+              if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; bad += EvalFace(g).ok ? 0 : 1; }
+          }
+          return bad;
+        };
+        int before = count();
+        if (before == 0) break;
+        K.Begin();
+        LocalFit(W, rounds);
+        int after = count();
+        if (after < before) { K.Commit(); ++improved; if (after == 0) break; }
+        else K.Rollback();
+      }
+    }
+    return improved;
   }
 
   int CountFlipped() const {
@@ -483,6 +531,9 @@ class Simplifier {
   std::vector<FaceInfo> info_, newInfo_;
   std::vector<char> vok_, newVok_;
   mutable std::vector<Vec3> lim_;
+  std::vector<Vec3> vp_;
+  std::vector<unsigned> vpStamp_;
+  unsigned vpEpoch_ = 0;
   mutable std::vector<char> limOk_;
   std::vector<unsigned> stamp_;
   std::vector<unsigned> fmarkOf_, vmarkOf_;
@@ -564,6 +615,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     if (!sim.Run(cb)) return res;
     if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
   }
+  if (res.collapses > 0) sim.FixFlips();
   res.flippedPatches = sim.CountFlipped();
   res.flippedVertices = sim.CountFlippedVertices();
   if (params.finalReinterpolation && res.collapses > 0) {
