@@ -2,7 +2,7 @@
 // runs, and its agreement with Reference mode on a random vertex subset (Spearman rank
 // correlation of S and of M, median relative difference).
 //
-// Usage: bench_fitmaps [MESH] [--runs N] [--ref N] [--tau PCT] [--seed S] [--threads T] [--flip K] [--points P] [--spoints P] [--slevel L] [--ref-factor F] [--dump K]
+// Usage: bench_fitmaps [MESH] [--runs N] [--ref N] [--tau PCT] [--seed S] [--threads T] [--flip K] [--points P] [--spoints P] [--slevel L] [--coverage] [--ref-factor F] [--dump K]
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else .deps/data/meshes/bunny00.off).
 //   --ref-factor F: Reference mode's M sample factor (paper: 4).
 //   --ref 0 skips the reference comparison; --dump K prints per-radius values of K subset vertices.
@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--flip") p.fastFlipSamples = std::atoi(next().c_str());
     else if (a == "--points") p.fastPointsPerFit = std::atoi(next().c_str());
+    else if (a == "--coverage") p.fastFlipEstimator = vcgext::FitmapParams::FlipEstimator::Coverage;
     else if (a == "--slevel") p.fastSLevel = std::atoi(next().c_str());
     else if (a == "--spoints") p.fastPointsPerSFit = std::atoi(next().c_str());
     else if (a == "--ref-factor") refFactor = std::atof(next().c_str());

@@ -304,9 +304,10 @@ TEST(Fitmaps, FastAgreesWithReferenceOnARealScan) {
   // some rank swaps among the many near-equal values of this mesh.
   EXPECT_GT(Spearman(fs, rs), 0.9);
   EXPECT_LT(rel[rel.size() / 2], 0.03);
-  // M: Fast measures exact coverage, Reference the paper's finite sampling (which also flags
-  // triangles merely missed by its ~2 rays per triangle): related, not equal (measured ~0.68).
-  EXPECT_GT(Spearman(fm, rm), 0.4);
+  // M: Fast estimates the paper's forward sampling from 16 samples per neighbourhood (and
+  // interpolates the large radii): the radius index is a coarse, threshold-decided value, so
+  // rank agreement is moderate (measured 0.79 on elephant, 0.67 on bunny00).
+  EXPECT_GT(Spearman(fm, rm), 0.6);
   // Reference mode on a subset equals Reference mode on all vertices there (per-vertex values).
   std::vector<int> few(subset.begin(), subset.begin() + 5);
   rp.vertices = few;
@@ -404,10 +405,12 @@ TEST(Fitmaps, VcgEntryWritesAttributes) {
   auto hM = vcg::tri::Allocator<vcgext::TMesh>::FindPerVertexAttribute<float>(m, vcgext::kFitmapMAttr);
   ASSERT_TRUE(vcg::tri::Allocator<vcgext::TMesh>::IsValidHandle(m, hS));
   ASSERT_TRUE(vcg::tri::Allocator<vcgext::TMesh>::IsValidHandle(m, hM));
-  FitmapResult direct = RunFitmaps(d, FitmapParams());  // float conversion: compare loosely
+  TriData imported;  // the same (float-rounded) coordinates the entry point sees
+  ASSERT_EQ(vcgext::ImportTriangles(m, imported).error, "");
+  FitmapResult direct = RunFitmaps(imported, FitmapParams());
   for (size_t i = 0; i < m.vert.size(); ++i) {
-    EXPECT_NEAR(hS[i], direct.S[i], 1e-3 * direct.S[i] + 1e-6);
-    EXPECT_NEAR(hM[i], direct.M[i], 1e-3 * direct.M[i]);
+    EXPECT_FLOAT_EQ(hS[i], float(direct.S[i]));
+    EXPECT_FLOAT_EQ(hM[i], float(direct.M[i]));
     EXPECT_GT(hS[i], 0.f);  // a sphere is curved: the cubic leaves a residual at large radii
   }
 }

@@ -257,7 +257,23 @@ void Evaluate(const Context& ctx, const Level& lv, const EvalSpec& e, int iBegin
           }
           if (face < 0) continue;
           ++valid;
-          if (!InverseHit(ctx, fr, g, SampleTriangle(m, face, rng), r)) ++miss;
+          const Vec3 xw = SampleTriangle(m, face, rng);
+          bool hit;
+          if (p.fastFlipEstimator == FitmapParams::FlipEstimator::ForwardSelf) {
+            const Vec3 x = fr.Local(xw);
+            const Vec3 P(x[0], x[1], g.Eval(x[0], x[1]));
+            auto h = ctx.scene->IntersectLine(fr.World(P), fr.WorldDir(g.Normal(x[0], x[1])), r);
+            // the face itself, or a landing point on its border (a neighbour reported for a ray
+            // through a shared edge, float rounding)
+            hit = h.valid && (h.face == face || [&] {
+                    const auto& t = m.F[face];
+                    const Vec3 c = ClosestPointOnTriangle(h.point, m.V[t[0]], m.V[t[1]], m.V[t[2]]);
+                    return (c - h.point).norm() <= 1e-4 * ctx.radii[0];
+                  }());
+          } else {
+            hit = InverseHit(ctx, fr, g, xw, r);
+          }
+          if (!hit) ++miss;
         }
         unhit = valid ? double(miss) / valid : 0.0;
         total = 1;

@@ -46,6 +46,16 @@ struct FitmapParams {
   int fastSLevel = 0;
   /// Fast mode: sampled surface points per neighbourhood for the flipped-share estimate.
   int fastFlipSamples = 16;
+  /// Fast mode: how a sampled mesh point x (on face t) counts as hit.
+  enum class FlipEstimator {
+    /// The paper's forward ray, cast back from the cubic above x (same (u,v)) along its
+    /// normal: hit iff it first hits t. Mimics Reference mode's finite sampling (default).
+    ForwardSelf,
+    /// Exact coverage: x is the first hit of the normal line through its closest point on the
+    /// cubic (the limit of Reference mode for infinitely many samples; more permissive).
+    Coverage,
+  };
+  FlipEstimator fastFlipEstimator = FlipEstimator::ForwardSelf;
   /// Reference mode: the M-fitmap's sample count is referenceSampleFactor * n_M |B| / |M|
   /// (paper: 4, i.e. twice the vertex density). Larger values make the literal estimate converge
   /// to the coverage Fast mode measures (see docs/fitmaps.md).
