@@ -114,6 +114,33 @@ TEST(QuadMesh, DoubletCreatedAndRemoved) {
   EXPECT_EQ(g.Check(&inv), "");
 }
 
+TEST(QuadMesh, BoundaryCornerRemoval) {
+  // collapse a boundary face towards its boundary corner: the next boundary vertex becomes a
+  // one-face vertex on a straight boundary, which RemoveBoundaryCorner removes.
+  QuadMesh g = Make(quadtest::QuadGrid(4, 4));
+  auto inv = g.ComputeInvariants();
+  const int f = 1;  // cell (1,0): corners 1, 2, 7, 6
+  ASSERT_EQ(g.CollapseDiagonal(f, 1), OpResult::Ok);  // diagonal 2-6: 2 boundary survives
+  const int b = 1;  // (1,0): lost its face towards cell (1,0)
+  ASSERT_EQ(g.VF(b).size(), 1u);
+  EXPECT_EQ(g.Valence(b), 2);
+  EXPECT_EQ(g.Check(&inv), "");
+  const int nb = g.NumVertices(), nf = g.NumFaces();
+  EXPECT_EQ(g.RemoveBoundaryCorner(GridId(2, 2, 4)), OpResult::NotDoublet);  // interior
+  int s = -1;
+  ASSERT_EQ(g.RemoveBoundaryCorner(b, &s, 1), OpResult::Ok);
+  EXPECT_EQ(g.NumVertices(), nb - 2);
+  EXPECT_EQ(g.NumFaces(), nf - 1);
+  EXPECT_EQ(s, 0);                          // keep = 1: survivor a = the grid corner (0,0)
+  EXPECT_NEAR(g.P[0].norm(), 0.0, 1e-15);  // at its position
+  EXPECT_EQ(g.Check(&inv), "");
+  // on a single quad the removal would leave nothing valid: refused, mesh unchanged
+  QuadMesh one = Make(quadtest::QuadGrid(1, 1));
+  EXPECT_NE(one.RemoveBoundaryCorner(0), OpResult::Ok);
+  EXPECT_EQ(one.Check(), "");
+  EXPECT_EQ(one.NumFaces(), 1);
+}
+
 TEST(QuadMesh, SwapEnergyAndApply) {
   QuadMesh g = Make(quadtest::QuadGrid(4, 4));
   auto inv = g.ComputeInvariants();
@@ -226,6 +253,14 @@ void RandomOps(QuadMesh m, unsigned seed, int steps, int minFaces, int* linkRefu
     } else {
       int v = m.F[f][rng() % 4];
       if (m.RemoveDoublet(v) == OpResult::Ok) ++doublets;
+      if (m.VertAlive(v) && m.IsBoundary(v) && m.VF(v).size() == 1) {
+        m.Begin();
+        bool ok = m.RemoveBoundaryCorner(v, nullptr, int(rng() % 3)) == OpResult::Ok;
+        for (int pass = 0; ok && pass < 6; ++pass)
+          for (int x = 0; ok && x < m.NumVertexSlots(); ++x)
+            if (m.VertAlive(x) && !m.IsBoundary(x) && m.Valence(x) == 2) ok = m.RemoveDoublet(x) == OpResult::Ok;
+        if (ok) m.Commit(); else m.Rollback();
+      }
     }
     std::string err = m.Check(&inv);
     ASSERT_EQ(err, "") << "after step " << it << " (op " << op << ")";

@@ -368,13 +368,20 @@ class Simplifier {
     std::vector<int> W;
     CollectRing(affected, W);
     LocalFit(W);
-    // flip test on the faces around W
+    // flip test on everything whose limit changed: vertices of ring1(W) (their limit normal
+    // depends on their 1-ring) and the faces incident to them (centre limit depends on the
+    // corners' 1-rings); stops at the first element that agreed with the input and does not now
+    CollectRing(W, R1_);
     ++fmark_;
     region_.clear();
-    for (int v : W)
+    for (int v : R1_)
       for (int g : K.VF(v))
         if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; region_.push_back(g); }
-    int badBefore = info_[f].ok ? 0 : 1, badAfter = 0;
+    newVok_.resize(R1_.size());
+    for (size_t i = 0; i < R1_.size(); ++i) {
+      newVok_[i] = VertexOk(R1_[i]);
+      if (vok_[R1_[i]] && !newVok_[i]) { K.Rollback(); return 2; }
+    }
     newInfo_.resize(region_.size());
     ++vpEpoch_;
     for (size_t i = 0; i < region_.size(); ++i) {
@@ -385,22 +392,13 @@ class Simplifier {
         vp[k] = vp_[x];
       }
       newInfo_[i] = EvalFace(region_[i], vp);
-      badBefore += info_[region_[i]].ok ? 0 : 1;
-      badAfter += newInfo_[i].ok ? 0 : 1;
+      if (info_[region_[i]].ok && !newInfo_[i].ok) { K.Rollback(); return 2; }
     }
-    // limit normals at the vertices of W as well (closed form, interior vertices)
-    newVok_.resize(W.size());
-    for (size_t i = 0; i < W.size(); ++i) {
-      newVok_[i] = VertexOk(W[i]);
-      badBefore += vok_[W[i]] ? 0 : 1;
-      badAfter += newVok_[i] ? 0 : 1;
-    }
-    if (badAfter > 0 && badAfter >= badBefore) { K.Rollback(); return 2; }
     K.Commit();
     for (int g : region_)
       for (int j = 0; j < 4; ++j) limOk_[K.F[g][j]] = 0;  // all of ring1(W)
     for (size_t i = 0; i < region_.size(); ++i) info_[region_[i]] = newInfo_[i];
-    for (size_t i = 0; i < W.size(); ++i) vok_[W[i]] = newVok_[i];
+    for (size_t i = 0; i < R1_.size(); ++i) vok_[R1_[i]] = newVok_[i];
     // re-queue faces whose cost may have changed
     for (int g : region_) Push(g);
     res_.collapses++;
@@ -428,6 +426,8 @@ class Simplifier {
     limOk_.assign(nv, 0);
 #pragma omp parallel for schedule(dynamic, 256)
     for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v) ? 1 : 0;
+    for (int f : alive) res_.initialFlippedPatches += info_[f].ok ? 0 : 1;
+    for (int v = 0; v < nv; ++v) res_.initialFlippedVertices += vok_[v] ? 0 : 1;
     for (int f : alive) Push(f);
     QuadMesh::Invariants inv;
     if (p_.validateEveryOperation) inv = K.ComputeInvariants();
@@ -538,7 +538,7 @@ class Simplifier {
   std::vector<unsigned> stamp_;
   std::vector<unsigned> fmarkOf_, vmarkOf_;
   unsigned fmark_ = 0, vmark_ = 0;
-  std::vector<int> region_;
+  std::vector<int> region_, R1_;
   std::priority_queue<Entry> heap_;
 };
 

@@ -68,6 +68,8 @@ struct QuadSimplifyResult {
   int rejectedFlip = 0;           ///< undone because a patch flipped against the input / left it
   int flippedPatches = 0;         ///< final patches whose centre normal disagrees with the input (or miss it)
   int flippedVertices = 0;        ///< final interior vertices whose limit normal disagrees likewise
+  int initialFlippedPatches = 0;  ///< the same counts on the initial interpolating mesh (noisy scans)
+  int initialFlippedVertices = 0;
   double initialSolveResidual = 0;  ///< max |limit - input vertex| after the global solve (absolute)
   int initialSolveIterations = 0;
   double secondsTriToQuad = 0, secondsInitialFit = 0, secondsSimplify = 0, secondsTotal = 0;
