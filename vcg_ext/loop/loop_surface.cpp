@@ -3,6 +3,7 @@
 /// the nudge (§3.2, Fig. 8), hard edges / vertices by the 1-D spline rules (§2.4).
 #include "vcg_ext/loop/loop_surface.h"
 
+#include <Eigen/Dense>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -441,6 +442,15 @@ struct LoopSurface::Impl {
   std::vector<std::vector<int>> hardNb;  // per vertex: hard-edge neighbours
   Adjacency vv;
   int maxDepth = 25;
+  /// Exact limit masks (vertex, weight) of darts: smooth vertices with one hard edge. Their
+  /// 1-ring subdivision matrix has a midpoint row for the hard edge, so the smooth Loop limit
+  /// mask (which OpenSubdiv's Sdc also uses for darts) is only an approximation.
+  std::vector<std::pair<int, std::vector<std::pair<int, double>>>> dartMasks;  // sorted by vertex
+  const std::vector<std::pair<int, double>>* DartMask(int i) const {
+    auto it = std::lower_bound(dartMasks.begin(), dartMasks.end(), i,
+                               [](const std::pair<int, std::vector<std::pair<int, double>>>& a, int b) { return a.first < b; });
+    return it != dartMasks.end() && it->first == i ? &it->second : nullptr;
+  }
 
   int BuildNode(TriCache& tc, const LNet& n, int depth, int cacheDepth) {
     int id = int(tc.nodes.size());
@@ -619,6 +629,48 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       // a non-manifold vertex: fixed; its hard neighbours do not matter
     }
   }
+  // exact limit masks of darts: left eigenvector (eigenvalue 1) of the 1-ring subdivision matrix
+  for (int i = 0; i < nV; ++i) {
+    if (vtype_[i] != LoopVertexType::Smooth || impl_->hardNb[i].empty() || vf.Count(i) == 0) continue;
+    std::vector<int> ring;
+    std::vector<char> ringHard;
+    int f0 = vcorner_[i].first, f = f0, k = vcorner_[i].second;
+    bool closed = false;
+    for (int guard = 0; guard < 10000; ++guard) {
+      ring.push_back(net.F[f][(k + 1) % 3]);
+      ringHard.push_back(hard_[f][k]);
+      int g = adj_[f][(k + 2) % 3];  // across edge (F[f][k+2], i)
+      if (g < 0) break;
+      f = g;
+      k = 0;
+      while (k < 3 && net.F[f][k] != i) ++k;
+      if (f == f0) { closed = true; break; }
+    }
+    const int val = int(ring.size());
+    if (!closed || val < 3) continue;  // cannot happen for a manifold interior vertex
+    // S: row 0 vertex point, row 1+j edge point of edge (i, ring[j]); columns 0: i, 1+j: ring[j]
+    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(val + 1, val + 1);
+    const double b = LoopBeta(val);
+    S(0, 0) = 1.0 - val * b;
+    for (int j = 0; j < val; ++j) S(0, 1 + j) = b;
+    for (int j = 0; j < val; ++j) {
+      if (ringHard[j]) { S(1 + j, 0) = 0.5; S(1 + j, 1 + j) = 0.5; continue; }
+      S(1 + j, 0) = 0.375;
+      S(1 + j, 1 + j) += 0.375;
+      S(1 + j, 1 + (j + 1) % val) += 0.125;
+      S(1 + j, 1 + (j + val - 1) % val) += 0.125;
+    }
+    Eigen::MatrixXd A(val + 2, val + 1);
+    A.topRows(val + 1) = S.transpose() - Eigen::MatrixXd::Identity(val + 1, val + 1);
+    A.row(val + 1).setOnes();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(val + 2);
+    rhs(val + 1) = 1.0;
+    Eigen::VectorXd l = A.colPivHouseholderQr().solve(rhs);
+    std::vector<std::pair<int, double>> mask;
+    mask.push_back({i, l(0)});
+    for (int j = 0; j < val; ++j) mask.push_back({ring[j], l(1 + j)});
+    impl_->dartMasks.push_back({i, std::move(mask)});
+  }
   // patches
   impl_->maxDepth = std::max(1, std::min(p.maxDepth, 40));
   const int cacheDepth = std::max(0, std::min(p.cacheDepth, 10));
@@ -770,6 +822,10 @@ void LoopSurface::LimitMatrixTriplets(std::vector<int>& rows, std::vector<int>& 
       for (int j : impl_->hardNb[i]) add(j, 1.0 / 6.0);
       continue;
     }
+    if (const auto* dm = impl_->DartMask(i)) {
+      for (const auto& e : *dm) add(e.first, e.second);
+      continue;
+    }
     double chi = 1.0 / (k + 3.0 / (8.0 * LoopBeta(k)));
     add(i, 1.0 - k * chi);
     for (const int* j = impl_->vv.Begin(i); j != impl_->vv.End(i); ++j) add(*j, chi);
@@ -793,6 +849,11 @@ Vec3 LoopSurface::VertexLimit(int i) const {
     Vec3 s = 4.0 * x;
     for (int j : impl_->hardNb[i]) s += net_.V[j];
     return s / 6.0;
+  }
+  if (const auto* dm = impl_->DartMask(i)) {
+    Vec3 s = Vec3::Zero();
+    for (const auto& e : *dm) s += e.second * net_.V[e.first];
+    return s;
   }
   double chi = 1.0 / (k + 3.0 / (8.0 * LoopBeta(k)));
   Vec3 s = (1.0 - k * chi) * x;

@@ -69,20 +69,29 @@ LoopInterpolateResult InterpolateLoopNet(const TriData& net, const LoopInterpola
   std::vector<Vec3> fn = FaceNormals(net);
   std::vector<char> flipped(n, 0), folded(net.F.size(), 0);
   const double d = p.cuspProbe;
-#pragma omp parallel for schedule(dynamic, 256)
+  // Each face is probed on a barycentric lattice of order L (corners replaced by the probes at
+  // `cuspProbe`): a fold of the limit surface (Fig. 10) reverses its normal in a band that can be
+  // narrower than a face, so the centroid alone misses most of them.
+  const int L = std::max(1, p.cuspLattice);
+#pragma omp parallel for schedule(dynamic, 64)
   for (int f = 0; f < int(net.F.size()); ++f) {
     LoopEval e;
-    s1.Evaluate(f, 1.0 / 3, 1.0 / 3, e, 1);
-    if (e.N.dot(fn[f]) < 0) folded[f] = 1;
+    for (int a = 0; a <= L && !folded[f]; ++a)
+      for (int b = 0; a + b <= L; ++b) {
+        if ((a == 0 && b == 0) || a == L || b == L) continue;  // corners: probed below
+        s1.Evaluate(f, double(a) / L, double(b) / L, e, 1);
+        if (e.N.dot(fn[f]) < 0) { folded[f] = 1; break; }
+      }
     const double pv[3][2] = {{d, d}, {1 - 2 * d, d}, {d, 1 - 2 * d}};
     for (int k = 0; k < 3; ++k) {
       s1.Evaluate(f, pv[k][0], pv[k][1], e, 1);
-      if (e.N.dot(fn[f]) < 0) flipped[net.F[f][k]] = 1;  // benign race: only ever set to 1
+      if (e.N.dot(fn[f]) < 0) { flipped[net.F[f][k]] = 1; folded[f] = 1; }  // benign race: only ever set to 1
     }
   }
   for (int i = 0; i < n; ++i)
     if (flipped[i]) { ++r.flippedVertices; r.cuspVertices.push_back(i); }
-  for (char c : folded) r.foldedFaces += c;
+  for (int f = 0; f < int(folded.size()); ++f)
+    if (folded[f]) { ++r.foldedFaces; r.foldedFaceList.push_back(f); }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

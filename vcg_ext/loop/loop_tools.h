@@ -23,6 +23,10 @@ struct LoopInterpolateParams {
   double solverTol = 1e-15;    ///< BiCGSTAB relative tolerance
   int maxIterations = 1000;
   double cuspProbe = 1e-3;     ///< barycentric offset from a vertex where the limit normal is probed
+  /// Fold detection: the limit normal of the interpolated net is compared with the original face
+  /// normal on a barycentric lattice of this order in every face ((L+1)(L+2)/2 - 3 points + the
+  /// 3 vertex probes; 6: 28 evaluations per face).
+  int cuspLattice = 6;
 };
 struct LoopInterpolateResult {
   std::string error;
@@ -30,14 +34,19 @@ struct LoopInterpolateResult {
   double residual = 0;       ///< max |S_inf X - x| / bbox diagonal
   int iterations = 0;        ///< BiCGSTAB iterations (max over x, y, z)
   int flippedVertices = 0;   ///< vertices whose limit normal (in an incident face) opposes that face's original normal (Fig. 10 cusps)
-  int foldedFaces = 0;       ///< faces whose limit normal at the centroid opposes the original face normal
+  int foldedFaces = 0;       ///< faces where the limit normal at a lattice point (or a vertex probe) opposes the original face normal
   std::vector<int> cuspVertices;  ///< the flipped vertices
+  std::vector<int> foldedFaceList;  ///< the folded faces (ascending)
   double seconds = 0;
 };
 /// Solves S_inf(x_interp) = x (eq. (9)) with Eigen's BiCGSTAB (diagonal preconditioner) on the
 /// sparse limit-mask operator (smooth: Loop limit mask; crease: (1,4,1)/6; hard vertex:
 /// identity), so that the Loop surface of the new net passes through the original vertices, and
-/// detects the cusps of Fig. 10 (normal flips). Cost: O(nnz * iterations) + O(F) evaluations.
+/// detects the cusps / folds of Fig. 10: the limit normal of the new net opposes the original
+/// face normal somewhere in a face (lattice probing, `cuspLattice`) or next to a vertex
+/// (`cuspProbe`). Typical cause: a strongly non-uniform net (neighbouring vertices much closer
+/// than the others), where the interpolating control points overshoot past each other.
+/// Cost: O(nnz * iterations) + O(F * L^2) evaluations.
 LoopInterpolateResult InterpolateLoopNet(const TriData& net, const LoopInterpolateParams& p = {});
 
 // ------------------------------------------------------------------ curvature
