@@ -317,8 +317,7 @@ std::vector<Vec3> RobustNormals(const TriData& m, const Adjacency& vv, double rM
 }
 
 /// Level 0 of the hierarchy: the mesh; faces belong to the cluster of their first corner.
-Level MakeFineLevel(const TriData& m, const Adjacency& vv, const std::vector<double>& faceArea,
-                    double totalArea) {
+Level MakeFineLevel(const TriData& m, const Adjacency& vv, double totalArea) {
   Level lv;
   const int n = int(m.V.size());
   lv.adj = vv;
@@ -355,7 +354,7 @@ void BuildClusterFaces(const TriData& m, const std::vector<double>& faceArea, Le
 /// Next coarser level: seeds greedily covering the level within `cover` (connected traversal,
 /// so clusters never join separate components), every point assigned to its graph-nearest seed
 /// (multi-source Dijkstra on edge lengths), clusters adjacent when any members are.
-Level Coarsen(const TriData& m, const Level& f, double cover) {
+Level Coarsen(const Level& f, double cover) {
   const int n = int(f.X.size());
   std::vector<char> covered(n, 0);
   std::vector<int> seeds;
@@ -416,7 +415,6 @@ Level Coarsen(const TriData& m, const Level& f, double cover) {
   for (auto& l : nb) c.adj.idx.insert(c.adj.idx.end(), l.begin(), l.end());
   c.ofFine.resize(f.ofFine.size());
   for (size_t v = 0; v < f.ofFine.size(); ++v) c.ofFine[v] = label[f.ofFine[v]];
-  (void)m;
   return c;
 }
 
@@ -575,7 +573,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   }
   for (int v : todo) res.unreferenced += vv.Count(v) == 0 ? 1 : 0;
 
-  Level fine = MakeFineLevel(m, vv, ctx.faceArea, ctx.totalArea);
+  Level fine = MakeFineLevel(m, vv, ctx.totalArea);
   const bool reference = p.mode == FitmapParams::Mode::Reference;
   std::atomic<long> done{0};
   int noFit = 0;
@@ -619,7 +617,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
           const Level& f = levels.back();
           if (f.X.size() < 64 || levels.size() >= 16) break;
           const double cover = r0 * std::pow(2.0, 0.5 * double(levels.size()));
-          Level c = Coarsen(m, f, cover);
+          Level c = Coarsen(f, cover);
           c.areaPerPoint = ctx.totalArea / double(c.X.size());
           c.index = int(levels.size());
           BuildClusterFaces(m, ctx.faceArea, c);
@@ -646,15 +644,13 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
       while (l + 1 < int(levels.size()) &&
              M_PI * r * r / levels[l + 1].areaPerPoint >= std::max(16, p.fastPointsPerSFit))
         ++l;
-      levelS[i] = std::max(l, 1);
+      levelS[i] = l;
     }
     res.secondsLevels = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (int i = 0; i < H; ++i) res.radiusLevel.push_back(levelOf[i]);
     prog(5, "Fitmaps: coarse levels", true);
     // coarse levels: every level point, all radii of that level
     std::vector<std::vector<RadiusValues>> coarse(levels.size());
-    long coarseWork = 0;
-    for (size_t l = 1; l < levels.size(); ++l) coarseWork += long(levels[l].X.size());
     for (size_t l = 1; l < levels.size(); ++l) {
       int i0 = H, i1 = 0;
       for (int i = 0; i < H; ++i)
@@ -773,7 +769,6 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
         if (omp_get_thread_num() == 0) prog(30 + 70.0 * done / todo.size(), "Fitmaps");
       }
     }
-    (void)coarseWork;
   }
   res.noFit = noFit;
   // back to the caller's vertex order

@@ -58,7 +58,7 @@ struct FitmapParams {
   FlipEstimator fastFlipEstimator = FlipEstimator::ForwardSelf;
   /// Reference mode: the M-fitmap's sample count is referenceSampleFactor * n_M |B| / |M|
   /// (paper: 4, i.e. twice the vertex density). Larger values make the literal estimate converge
-  /// to the coverage Fast mode measures (see docs/fitmaps.md).
+  /// to the exact coverage (FlipEstimator::Coverage; see docs/fitmaps.md).
   double referenceSampleFactor = 4.0;
   /// Keep the per-radius measurements E(r_i) and flipped shares in the result (diagnostics).
   bool keepPerRadius = false;
@@ -92,7 +92,7 @@ struct FitmapResult {
 /// largest r_i such that every radius r_1..r_i has an area share of un-hit triangles < tau.
 /// Preconditions: none (invalid input gives `error`); degenerate faces, boundaries, several
 /// components, non-manifold and unreferenced vertices are handled (finite values).
-/// Cost: Fast mode O(n · k) with k bounded per vertex (about 1 s on 37.7k vertices, 2 cores);
+/// Cost: Fast mode O(n · k) with k bounded per vertex (about 3 CPU-seconds on 37.7k vertices);
 /// Reference mode O(n · |B|) with |B| up to the whole mesh (minutes). OpenMP-parallel.
 /// Progress is reported from the calling thread only.
 FitmapResult ComputeFitmaps(const TriData& m, const EmbreeScene& scene, const FitmapParams& p,
