@@ -86,6 +86,7 @@ struct FaceInfo {
   Vec3 c = Vec3::Zero();
   double S = 0, M = 0;
   bool ok = false;  ///< centre projects onto the input with an agreeing normal
+  int hit = -1;     ///< input triangle hit by the projection (-1: none)
 };
 
 class Simplifier {
@@ -142,6 +143,7 @@ class Simplifier {
       fi->S = w0 * S_[t[0]] + h.u * S_[t[1]] + h.v * S_[t[2]];
       fi->M = w0 * M_[t[0]] + h.u * M_[t[1]] + h.v * M_[t[2]];
       fi->ok = FN_[h.face].dot(n) > 0;
+      fi->hit = h.face;
     }
     if (point) *point = h.point;
     return true;
@@ -166,12 +168,25 @@ class Simplifier {
   }
 
   // interior vertex: its limit normal agrees with the input normal where it projects
-  bool VertexOk(int v) const {
+  bool VertexOk(int v, int* hitFace = nullptr) const {
+    if (hitFace) *hitFace = -1;
     if (!K.VertAlive(v) || K.IsBoundary(v)) return true;
     Vec3 pos, n;
     if (!quad::VertexLimitFrame(K, v, &pos, &n)) return false;
     EmbreeScene::Hit h = LineHit(pos, n);
+    if (hitFace && h.valid) *hitFace = h.face;
     return h.valid && FN_[h.face].dot(n) > 0;
+  }
+  // Elements only in the 2-ring of the moved vertices move little: if their new limit normal
+  // still agrees with the input triangle their last projection hit, no ray is cast (the full
+  // test runs otherwise, and on the final mesh).
+  bool VertexOkFast(int v, int* hitFace) const {
+    if (!K.VertAlive(v) || K.IsBoundary(v)) { *hitFace = -1; return true; }
+    if (vhit_[v] >= 0) {
+      Vec3 pos, n;
+      if (quad::VertexLimitFrame(K, v, &pos, &n) && FN_[vhit_[v]].dot(n) > 0) { *hitFace = vhit_[v]; return true; }
+    }
+    return VertexOk(v, hitFace);
   }
 
   Vec3 BoundaryTarget(const Vec3& p) const {
@@ -219,6 +234,8 @@ class Simplifier {
     if (!limOk_[v]) { lim_[v] = quad::VertexLimit(K, v); limOk_[v] = 1; }
     return lim_[v];
   }
+
+  bool vmarkOfW(int v) const { return wmarkOf_[v] == wmark_; }
 
   double Cost(int f, int k, const FaceInfo& fi) const {
     int a = K.F[f][k], c = K.F[f][k + 2];
@@ -371,6 +388,8 @@ class Simplifier {
     // flip test on everything whose limit changed: vertices of ring1(W) (their limit normal
     // depends on their 1-ring) and the faces incident to them (centre limit depends on the
     // corners' 1-rings); stops at the first element that agreed with the input and does not now
+    ++wmark_;
+    for (int v : W) wmarkOf_[v] = wmark_;
     CollectRing(W, R1_);
     ++fmark_;
     region_.clear();
@@ -378,27 +397,39 @@ class Simplifier {
       for (int g : K.VF(v))
         if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; region_.push_back(g); }
     newVok_.resize(R1_.size());
+    newVhit_.resize(R1_.size());
     for (size_t i = 0; i < R1_.size(); ++i) {
-      newVok_[i] = VertexOk(R1_[i]);
-      if (vok_[R1_[i]] && !newVok_[i]) { K.Rollback(); return 2; }
+      int v = R1_[i];
+      bool inW = vmarkOfW(v);
+      newVok_[i] = inW ? VertexOk(v, &newVhit_[i]) : VertexOkFast(v, &newVhit_[i]);
+      if (vok_[v] && !newVok_[i]) { K.Rollback(); return 2; }
     }
     newInfo_.resize(region_.size());
     ++vpEpoch_;
     for (size_t i = 0; i < region_.size(); ++i) {
+      const int g = region_[i];
       Vec3 vp[4];
+      bool touchesW = false;
       for (int k = 0; k < 4; ++k) {
-        int x = K.F[region_[i]][k];
+        int x = K.F[g][k];
+        touchesW |= vmarkOfW(x);
         if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
         vp[k] = vp_[x];
       }
-      newInfo_[i] = EvalFace(region_[i], vp);
-      if (info_[region_[i]].ok && !newInfo_[i].ok) { K.Rollback(); return 2; }
+      bool done = false;
+      if (!touchesW && info_[g].ok && info_[g].hit >= 0) {
+        FaceInfo fi = info_[g];
+        Vec3 n;
+        if (quad::FaceCentreLimit(K, g, vp, &fi.c, &n) && FN_[fi.hit].dot(n) > 0) { newInfo_[i] = fi; done = true; }
+      }
+      if (!done) newInfo_[i] = EvalFace(g, vp);
+      if (info_[g].ok && !newInfo_[i].ok) { K.Rollback(); return 2; }
     }
     K.Commit();
     for (int g : region_)
       for (int j = 0; j < 4; ++j) limOk_[K.F[g][j]] = 0;  // all of ring1(W)
     for (size_t i = 0; i < region_.size(); ++i) info_[region_[i]] = newInfo_[i];
-    for (size_t i = 0; i < R1_.size(); ++i) vok_[R1_[i]] = newVok_[i];
+    for (size_t i = 0; i < R1_.size(); ++i) { vok_[R1_[i]] = newVok_[i]; vhit_[R1_[i]] = newVhit_[i]; }
     // re-queue faces whose cost may have changed
     for (int g : region_) Push(g);
     res_.collapses++;
@@ -420,12 +451,14 @@ class Simplifier {
 #pragma omp parallel for schedule(dynamic, 256)
     for (long i = 0; i < long(alive.size()); ++i) info_[alive[i]] = EvalFace(alive[i]);
     vok_.assign(nv, 1);
+    vhit_.assign(nv, -1);
+    wmarkOf_.assign(nv, 0);
     lim_.assign(nv, Vec3::Zero());
     vp_.assign(nv, Vec3::Zero());
     vpStamp_.assign(nv, 0);
     limOk_.assign(nv, 0);
 #pragma omp parallel for schedule(dynamic, 256)
-    for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v) ? 1 : 0;
+    for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v, &vhit_[v]) ? 1 : 0;
     for (int f : alive) res_.initialFlippedPatches += info_[f].ok ? 0 : 1;
     for (int v = 0; v < nv; ++v) res_.initialFlippedVertices += vok_[v] ? 0 : 1;
     for (int f : alive) Push(f);
@@ -530,6 +563,9 @@ class Simplifier {
   std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
   std::vector<FaceInfo> info_, newInfo_;
   std::vector<char> vok_, newVok_;
+  std::vector<int> vhit_, newVhit_;
+  std::vector<unsigned> wmarkOf_;
+  unsigned wmark_ = 0;
   mutable std::vector<Vec3> lim_;
   std::vector<Vec3> vp_;
   std::vector<unsigned> vpStamp_;
