@@ -6,6 +6,7 @@
 
 #include "filter_table.h"
 #include "glue.h"
+#include "vcg_ext/core/quad_cleanup.h"
 #include "vcg_ext/core/quality.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fit/bake.h"
@@ -50,6 +51,10 @@ bool ApplyFit(GlueContext& ctx) {
   vcgext::QuadData quads;
   std::string err = vcgext::ImportQuads(control.cm, quads);
   if (!err.empty()) return ctx.Fail(err);
+  // Foreign quad meshes (e.g. MeshLab's triangle pairing) may contain doublets (interior
+  // valence-2 vertices): merge them, as the simplification does (§3.3.3).
+  if (int nd = vcgext::RemoveDoublets(quads))
+    ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) + " doublets (interior valence-2 vertices) of the control mesh");
   vcgext::TriData ref;
   vcgext::ImportReport rep = vcgext::ImportTriangles(refModel->cm, ref);
   if (!rep.error.empty()) return ctx.Fail("reference layer: " + rep.error);

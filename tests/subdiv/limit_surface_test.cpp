@@ -311,3 +311,18 @@ TEST(LimitSurface, OpenGridBoundaryIsValid) {
     EXPECT_TRUE(P.allFinite());
   }
 }
+
+// OpenSubdiv 3.5.0's Bfr leaves control-point indices uninitialised around interior valence-2
+// vertices (a crash found through MeshLab's triangle pairing): they are refused with a message.
+TEST(LimitSurface, RejectsInteriorValenceTwoVertices) {
+  vcgext::QuadData q;
+  for (int i = 0; i < 8; ++i) q.V.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  q.F = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  // Split the first face into a doublet around its centre (vertex 8).
+  q.V.emplace_back(0.5, 0.5, 0.0);
+  q.F[0] = {8, 0, 2, 3};
+  q.F.push_back({8, 3, 1, 0});
+  auto ls = vcgext::LimitSurface::FromQuads(q);
+  EXPECT_FALSE(ls.Ok());
+  EXPECT_NE(ls.Error().find("valence 2"), std::string::npos) << ls.Error();
+}

@@ -178,6 +178,18 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
     ++valence_[b];
     if (kv.second.count == 1) boundary[a] = boundary[b] = 1;
   }
+  // Interior valence-2 vertices (doublets): OpenSubdiv 3.5.0's Bfr returns surfaces whose
+  // control-point indices are partly uninitialised around them (found with valgrind on a
+  // decimated + paired elephant; it crashed the fit). Refuse them with a clear message.
+  int doublets = 0, firstDoublet = -1;
+  for (int v = 0; v < nV; ++v)
+    if (valence_[v] == 2 && !boundary[v]) {
+      if (firstDoublet < 0) firstDoublet = v;
+      ++doublets;
+    }
+  if (doublets)
+    return std::to_string(doublets) + " interior vertices have valence 2 (doublets; first: vertex " +
+           std::to_string(firstDoublet) + "): remove them first (e.g. vcgext::RemoveDoublets merges the two faces)";
   numIrregular_ = 0;
   const int regInterior = loop ? 6 : 4, regBoundary = loop ? 4 : 3;
   for (int v = 0; v < nV; ++v) {

@@ -1,0 +1,75 @@
+#include "vcg_ext/core/quad_cleanup.h"
+
+#include <algorithm>
+#include <map>
+
+namespace vcgext {
+
+namespace {
+// Rotates quad f so that corner `v` comes first; false if v is not a corner.
+bool RotateTo(Quad& f, int v) {
+  for (int k = 0; k < 4; ++k)
+    if (f[k] == v) {
+      std::rotate(f.begin(), f.begin() + k, f.end());
+      return true;
+    }
+  return false;
+}
+}  // namespace
+
+int RemoveDoublets(QuadData& q) {
+  int removed = 0;
+  std::vector<char> dead(q.F.size(), 0);
+  for (bool changed = true; changed;) {
+    changed = false;
+    const int nV = int(q.V.size());
+    std::vector<std::vector<int>> faces(nV);
+    std::map<std::pair<int, int>, int> edgeCount;
+    for (size_t f = 0; f < q.F.size(); ++f) {
+      if (dead[f]) continue;
+      for (int k = 0; k < 4; ++k) {
+        faces[q.F[f][k]].push_back(int(f));
+        ++edgeCount[std::minmax(q.F[f][k], q.F[f][(k + 1) % 4])];
+      }
+    }
+    std::vector<char> touched(q.F.size(), 0);
+    for (int v = 0; v < nV; ++v) {
+      if (faces[v].size() != 2) continue;
+      int f1 = faces[v][0], f2 = faces[v][1];
+      if (touched[f1] || touched[f2]) continue;
+      Quad a1 = q.F[f1], a2 = q.F[f2];
+      RotateTo(a1, v);
+      RotateTo(a2, v);
+      // a1 = (v, a, x, b), a2 must be (v, b, y, a); both edges interior (shared by the two).
+      int a = a1[1], x = a1[2], b = a1[3];
+      if (a2[1] != b || a2[3] != a) continue;
+      int y = a2[2];
+      if (x == y || edgeCount[std::minmax(v, a)] != 2 || edgeCount[std::minmax(v, b)] != 2) continue;
+      q.F[f1] = {a, x, b, y};
+      dead[f2] = 1;
+      touched[f1] = touched[f2] = 1;
+      ++removed;
+      changed = true;
+    }
+  }
+  // Compact faces, then vertices.
+  std::vector<Quad> F;
+  for (size_t f = 0; f < q.F.size(); ++f)
+    if (!dead[f]) F.push_back(q.F[f]);
+  std::vector<int> remap(q.V.size(), -1);
+  std::vector<Vec3> V;
+  for (auto& f : F)
+    for (int& c : f) {
+      if (remap[c] < 0) {
+        remap[c] = int(V.size());
+        V.push_back(q.V[c]);
+      }
+      c = remap[c];
+    }
+  if (removed == 0) return 0;  // keep vertex order (and unreferenced vertices) when nothing changed
+  q.F.swap(F);
+  q.V.swap(V);
+  return removed;
+}
+
+}  // namespace vcgext
