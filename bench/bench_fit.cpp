@@ -2,9 +2,10 @@
 // (patches, irregular vertices, unprojectable %, RMS limit / displaced error in ‰ of the bbox
 // diagonal) and Table 2 (per-stage wall time), plus peak memory. Median of several runs.
 //
-// Usage: bench_fit REFERENCE CONTROL [runs=3] [outdir]
+// Usage: bench_fit REFERENCE CONTROL [runs=3] [outdir] [key=value ...]
 //   REFERENCE  dense triangle mesh (e.g. bunny00.off)
-//   CONTROL    either a quad mesh as OBJ (`f a b c d`), or a coarse triangle mesh (OFF/PLY/OBJ
+//   CONTROL    a quad mesh as OBJ (`f a b c d`) or PLY (MeshLab's faux-edge triangle pairs as
+//              saved by `meshlabserver ... -m ff`, or quad faces), or a coarse triangle mesh (OFF/PLY/OBJ
 //              with triangles) that is turned into quads by one Catmull-Clark-style split
 //              (each triangle -> 3 quads through edge midpoints and its centroid).
 //   outdir     if given, writes control.obj/.mtl, limit.ply, displaced.ply, displacement.png/.json,
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "vcg_ext/core/embree_scene.h"
+#include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/core/indexed_mesh.h"
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/fit_io.h"
@@ -56,6 +58,14 @@ bool LoadQuadObj(const std::string& path, QuadData& q) {
   return !q.F.empty();
 }
 
+// A pure-quad layer as MeshLab saves it (PLY triangle pairs with faux-edge flags, `-m ff`) or a
+// quad PLY: vcglib reads polygons as faux-edge fans, ImportQuads pairs them back.
+bool LoadQuadLayer(const std::string& path, QuadData& q) {
+  TMesh m;
+  if (!LoadMesh(path, m).empty()) return false;
+  return ImportQuads(m, q).empty();
+}
+
 QuadData SplitTrianglesToQuads(const TriData& t) {
   QuadData q;
   q.V = t.V;
@@ -84,18 +94,45 @@ double Median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) {
-    std::fprintf(stderr, "usage: %s REFERENCE CONTROL [runs=3] [outdir]\n", argv[0]);
+  // Positional arguments, then optional key=value overrides of FitBakeParams (see usage).
+  std::vector<std::string> pos;
+  FitBakeParams p;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto eq = a.find('=');
+    if (eq == std::string::npos) { pos.push_back(a); continue; }
+    const std::string k = a.substr(0, eq);
+    const double v = std::atof(a.c_str() + eq + 1);
+    if (k == "R") p.textureResolution = int(v);
+    else if (k == "iters") p.fit.maxIterations = int(v);
+    else if (k == "vw") p.fit.vertexWeight = v;
+    else if (k == "damp") p.fit.dampingWeight = v;
+    else if (k == "spv") p.fit.samplesPerVertex = v;
+    else if (k == "minimp") p.fit.minImprovement = v;
+    else if (k == "tw") p.fit.tangentWeight = v;
+    else if (k == "dw") p.fit.dataWeight = v;
+    else if (k == "sw") p.fit.sampleWeight = v;
+    else if (k == "fps") p.fit.footpointSegments = int(v);
+    else if (k == "method") p.fit.method = v == 0 ? FitMethod::PointToPoint : FitMethod::TangentDistance;
+    else { std::fprintf(stderr, "unknown option %s\n", k.c_str()); return 2; }
+  }
+  if (pos.size() < 2) {
+    std::fprintf(stderr,
+                 "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
+                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [fps=foot-point segments] "
+                 "[method=0 point-to-point | 1 tangent distance]\n",
+                 argv[0]);
     return 2;
   }
-  const std::string refPath = argv[1], ctrlPath = argv[2];
-  const int runs = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
-  const std::string outdir = argc > 4 ? argv[4] : "";
+  const std::string refPath = pos[0], ctrlPath = pos[1];
+  const int runs = pos.size() > 2 ? std::max(1, std::atoi(pos[2].c_str())) : 3;
+  const std::string outdir = pos.size() > 3 ? pos[3] : "";
   TriData ref;
   if (!LoadTri(refPath, ref)) return 1;
   QuadData ctrl;
   const bool isObj = ctrlPath.size() > 4 && ctrlPath.substr(ctrlPath.size() - 4) == ".obj";
-  if (!(isObj && LoadQuadObj(ctrlPath, ctrl))) {
+  const bool isPly = ctrlPath.size() > 4 && ctrlPath.substr(ctrlPath.size() - 4) == ".ply";
+  if (!(isObj && LoadQuadObj(ctrlPath, ctrl)) && !(isPly && LoadQuadLayer(ctrlPath, ctrl))) {
     TriData coarse;
     if (!LoadTri(ctrlPath, coarse)) return 1;
     ctrl = SplitTrianglesToQuads(coarse);
@@ -104,7 +141,6 @@ int main(int argc, char** argv) {
               refPath.c_str(), ref.V.size(), ref.F.size(), ctrl.V.size(), ctrl.F.size());
   std::map<std::string, std::vector<double>> t;
   FitBakeResult last;
-  FitBakeParams p;
   p.normalMap = !outdir.empty();
   for (int r = 0; r < runs; ++r) {
     auto t0 = std::chrono::steady_clock::now();
@@ -128,6 +164,10 @@ int main(int argc, char** argv) {
   std::printf("fit detail: samples %d (k %d..%d), iterations %d, RMS per iteration:", last.fit.samples,
               last.fit.minKUsed, last.fit.maxKUsed, last.fit.iterations);
   for (double e : last.fit.rmsPerIteration) std::printf(" %.3g", e);
+  if (!last.fit.dataRmsPerIteration.empty()) {
+    std::printf("\n  reference->limit RMS per iteration:");
+    for (double e : last.fit.dataRmsPerIteration) std::printf(" %.3g", e);
+  }
   std::printf(" (setup %.3f, factor %.3f, project %.3f, solve %.3f s)\n", last.fit.secondsSetup,
               last.fit.secondsFactor, last.fit.secondsProject, last.fit.secondsSolve);
   if (!outdir.empty()) {

@@ -84,8 +84,10 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
       return res;
     }
   if (p.maxIterations < 1 || p.minK < 1 || p.maxK < p.minK || p.samplesPerVertex <= 0 || p.vertexWeight < 0 ||
-      p.dampingWeight < 0 || p.smoothWeight < 0 || p.maxProjectionPercent <= 0) {
-    res.error = "invalid fit parameters (iterations >= 1, 1 <= minK <= maxK, positive sample density and distance)";
+      p.dampingWeight < 0 || p.smoothWeight < 0 || p.maxProjectionPercent <= 0 || !(p.tangentWeight > 0) ||
+      p.dataWeight < 0 || p.sampleWeight < 0 || !(p.dataWeight + p.sampleWeight > 0) || p.footpointSegments < 1) {
+    res.error = "invalid fit parameters (iterations >= 1, 1 <= minK <= maxK, positive sample density, distance and "
+                "tangent weight, non-negative weights, foot-point segments >= 1)";
     return res;
   }
   LimitSurface ls = LimitSurface::FromQuads(control);
@@ -130,9 +132,10 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   const int nRows = nS + nV;
 
   // Stencils (rows of A, ADu, ADv), computed in parallel per patch.
-  struct Row { std::vector<int> idx; std::vector<double> w, du, dv; };
+  using Row = fitdetail::StencilRow;
   std::vector<Row> rows(nRows);
   std::vector<double> weight(nRows, 1.0);
+  std::vector<int> rowFace(nRows, -1);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int f = 0; f < nF; ++f) {
     LimitStencil st;
@@ -141,6 +144,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
       for (int i = 0; i < k; ++i) {
         ls.Stencil(f, (i + 0.5) / k, (j + 0.5) / k, st, 1);
         Row& r = rows[sampleOffs[f] + j * k + i];
+        rowFace[sampleOffs[f] + j * k + i] = f;
         r.idx = st.index; r.w = st.P; r.du = st.Du; r.dv = st.Dv;
       }
   }
@@ -160,9 +164,23 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
       double u, w;
       ls.CornerUV(vc[v].first, vc[v].second, u, w);
       ls.Stencil(vc[v].first, u, w, st, 1);
+      rowFace[nS + v] = vc[v].first;
       r.idx = st.index; r.w = st.P; r.du = st.Du; r.dv = st.Dv;
       weight[nS + v] = p.vertexWeight;
     }
+  }
+  if (p.method == FitMethod::TangentDistance) {
+    Eigen::MatrixXd X(nV, 3);
+    for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
+    res.secondsSetup = Since(t0);
+    res.error = fitdetail::FitTangentDistance(ls, ref, scene, p, rows, rowFace, weight, nS, maxDist, X, res, prog);
+    if (!res.error.empty()) return res;
+    res.control.F = control.F;
+    res.control.V.resize(nV);
+    for (int v = 0; v < nV; ++v) res.control.V[v] = X.row(v).transpose();
+    res.seconds = Since(t0);
+    prog(100, "Fit: done", true);
+    return res;
   }
   std::vector<Eigen::Triplet<double>> tA, tU, tV;
   size_t nnz = 0;

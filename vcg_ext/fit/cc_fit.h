@@ -30,6 +30,22 @@
 
 namespace vcgext {
 
+/// How the project → solve iterations measure the distance of the limit to the reference.
+enum class FitMethod {
+  /// The paper's §3.5: every limit sample is pulled to its projection phi along the limit normal
+  /// (point-to-point, x, y, z separable, one factorization). Converges slowly: the tangential part
+  /// of each pull holds the surface back (first-order "PDM" of Wang, Pottmann & Liu 2006).
+  PointToPoint,
+  /// Tangent-distance minimization (the "TDM" of Wang, Pottmann & Liu 2006, the family of the SDM
+  /// the paper suggests in §3.5), two-sided: (a) the paper's limit samples, each pulled to the
+  /// tangent plane of the reference at its projection phi, and (b) one row per reference vertex,
+  /// pulled onto the tangent plane of the limit at its foot point (closest limit point, refined
+  /// by Gauss-Newton on the exact limit) — (b) minimizes exactly the reported per-vertex error
+  /// and reaches reference parts no limit normal hits (ear tips). Tangential components keep the
+  /// weight `tangentWeight` (makes the 3V×3V system definite). Refactorized every iteration.
+  TangentDistance
+};
+
 /// Parameters of FitCatmullClark. Distances in percent of the reference bbox diagonal.
 struct FitParams {
   double samplesPerVertex = 1.0;       ///< c: total samples ≈ c · reference vertices (paper: 1)
@@ -42,6 +58,11 @@ struct FitParams {
   double dampingWeight = 1e-3;         ///< λ relative to mean(diag(AᵀWA)): pull to the previous iterate
   double smoothWeight = 0.0;           ///< μ relative to mean(diag(AᵀWA)): control-net Laplacian (off)
   double maxMissFraction = 0.5;        ///< error if more limit samples than this miss the reference by ray
+  FitMethod method = FitMethod::TangentDistance;  ///< PointToPoint = the paper's literal §3.5
+  double tangentWeight = 0.01;         ///< TangentDistance: weight of the tangential residual components (1 = point-to-point)
+  double sampleWeight = 1.0;           ///< TangentDistance: weight of the paper's limit-sample (and vertex) rows
+  double dataWeight = 1.0;             ///< TangentDistance: weight of a reference-vertex row relative to a limit-sample row
+  int footpointSegments = 8;           ///< TangentDistance: tessellation (per patch side) used to seed the foot points
 };
 
 /// Outcome of FitCatmullClark. When `error` is non-empty, only `error` is meaningful.
@@ -57,6 +78,8 @@ struct FitResult {
   std::vector<double> rmsPerIteration; ///< RMS sample→target distance (absolute) at each projection
   double rayMissFraction = 0;          ///< share of samples whose normal ray missed (last projection)
   int iterations = 0;                  ///< solves performed
+  std::vector<double> dataRmsPerIteration;  ///< TangentDistance: RMS reference vertex → limit (foot points), absolute
+  std::vector<double> objectivePerIteration;///< TangentDistance: weighted RMS of all rows (the stopping criterion)
   double secondsSetup = 0, secondsFactor = 0, secondsProject = 0, secondsSolve = 0, seconds = 0;
 };
 

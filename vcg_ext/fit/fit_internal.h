@@ -1,7 +1,14 @@
 #pragma once
 /// \file fit_internal.h
 /// Helpers shared by the fit and bake sources (not public API).
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
 #include "vcg_ext/core/embree_scene.h"
+#include "vcg_ext/core/progress.h"
+#include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/core/indexed_mesh.h"
 #include "vcg_ext/subdiv/limit_surface.h"
 
@@ -18,6 +25,22 @@ bool Project(const EmbreeScene& scene, const Vec3& p, const Vec3& n, double maxD
 /// Limit point and unit normal at (f,u,v). Where the tangents are degenerate (e.g. smooth
 /// valence-2 boundary corners) the normal is taken 1e-4 inside the patch; zero if still degenerate.
 Vec3 LimitPointNormal(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, double u, double v, Vec3* n);
+
+/// Exact limit stencil of one fixed sample row (position and first derivatives).
+struct StencilRow {
+  std::vector<int> idx;
+  std::vector<double> w, du, dv;
+};
+
+/// The tangent-distance iterations of FitCatmullClark (FitMethod::TangentDistance, see cc_fit.h).
+/// `rows` holds the fixed patch samples [0, nS) followed by the vertex rows of system (1); `rowFace`
+/// is the face each row lies in and `rowWeight` its weight. X (nV×3) is the start and, on return,
+/// the best iterate. Fills rmsPerIteration, dataRmsPerIteration, rayMissFraction, iterations and
+/// the timings of `res`. Returns an error message or "".
+std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
+                               const FitParams& p, const std::vector<StencilRow>& rows,
+                               const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
+                               double maxDist, Eigen::MatrixXd& X, FitResult& res, Progress& prog);
 
 }  // namespace fitdetail
 }  // namespace vcgext

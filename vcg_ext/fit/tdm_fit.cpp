@@ -1,0 +1,354 @@
+// Tangent-distance iterations of the final Catmull-Clark fit (FitMethod::TangentDistance).
+//
+// Energy (linearized at the current iterate, one Gauss-Newton step per iteration):
+//   E(X) = Σ_rows ω_r (s_r(X) − t_r)ᵀ Q_r (s_r(X) − t_r) + λ |X − X_prev|²,
+//   Q_r = n_r n_rᵀ + w_t (I − n_r n_rᵀ)
+// with, for
+//  - the paper's limit samples s(f,u,v) (fixed (u,v)) and the vertex rows of system (1):
+//    t = projection phi along the limit normal, n = normal of the reference triangle hit;
+//  - one row per reference vertex x (weight dataWeight): s = limit point at the foot point
+//    (f,u,v) of x (closest point of a tessellation, refined by Gauss-Newton on the exact limit),
+//    t = x, n = limit normal at the foot point.
+// Unknowns are ordered coordinate-major (x of all vertices, then y, then z). The sparsity pattern
+// (union over faces of support(f)², ⊗ 3×3) is fixed, so SimplicialLDLT analyses it once and
+// refactorizes every iteration. Assembly is per face (dense local blocks, atomically scattered).
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "vcg_ext/fit/bake.h"
+#include "vcg_ext/fit/fit_internal.h"
+
+namespace vcgext {
+namespace fitdetail {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using SpMat = Eigen::SparseMatrix<double>;
+
+// One least-squares row: limit point Σ w[k]·X[idx[k]] pulled to `target` with metric Q.
+struct Constraint {
+  const int* idx = nullptr;
+  const double* w = nullptr;
+  int n = 0;
+  Vec3 target = Vec3::Zero();
+  Vec3 normal = Vec3::Zero();
+  double weight = 0;
+};
+
+// Position of entry (row, col) in the compressed column `col` of P (must exist).
+int EntryPos(const SpMat& P, int row, int col) {
+  const int* b = P.innerIndexPtr() + P.outerIndexPtr()[col];
+  const int* e = P.innerIndexPtr() + P.outerIndexPtr()[col + 1];
+  const int* it = std::lower_bound(b, e, row);
+  return (it != e && *it == row) ? int(it - P.innerIndexPtr()) : -1;
+}
+}  // namespace
+
+std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
+                               const FitParams& p, const std::vector<StencilRow>& rows,
+                               const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
+                               double maxDist, Eigen::MatrixXd& X, FitResult& res, Progress& prog) {
+  const int nV = ls.NumVertices(), nF = ls.NumFaces(), nR = int(rows.size()), nRef = int(ref.V.size());
+  const double wt = p.tangentWeight;
+  const auto refN = FaceNormals(ref);
+
+  // ---- fixed pattern: face supports (stencil indices are the patch's control points).
+  std::vector<std::vector<int>> sup(nF);
+  {
+    LimitStencil st;
+    for (int f = 0; f < nF; ++f) {
+      ls.Stencil(f, 0.5, 0.5, st, 0);
+      sup[f] = st.index;
+    }
+    for (int r = 0; r < nR; ++r) {  // defensive: every fixed row's indices belong to its face's support
+      const int f = rowFace[r];
+      if (f < 0) continue;
+      for (int i : rows[r].idx)
+        if (!std::binary_search(sup[f].begin(), sup[f].end(), i)) {
+          sup[f].insert(std::upper_bound(sup[f].begin(), sup[f].end(), i), i);
+        }
+    }
+  }
+  SpMat P(nV, nV);
+  {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int v = 0; v < nV; ++v) t.emplace_back(v, v, 0.0);
+    for (int f = 0; f < nF; ++f)
+      for (int a : sup[f])
+        for (int b : sup[f]) t.emplace_back(a, b, 0.0);
+    P.setFromTriplets(t.begin(), t.end());
+    P.makeCompressed();
+  }
+  const int nnzP = int(P.nonZeros());
+  std::vector<std::vector<int>> pos(nF);
+  for (int f = 0; f < nF; ++f) {
+    const int m = int(sup[f].size());
+    pos[f].resize(size_t(m) * m);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) pos[f][size_t(a) * m + b] = EntryPos(P, sup[f][a], sup[f][b]);
+  }
+  std::vector<int> diagPos(nV);
+  for (int v = 0; v < nV; ++v) diagPos[v] = EntryPos(P, v, v);
+  // The 3nV system: block (r,c) has pattern P; columns ordered c-major, rows r-major within a column.
+  SpMat H(3 * nV, 3 * nV);
+  {
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(size_t(9) * nnzP);
+    for (int c = 0; c < 3; ++c)
+      for (int b = 0; b < nV; ++b)
+        for (int r = 0; r < 3; ++r)
+          for (int q = P.outerIndexPtr()[b]; q < P.outerIndexPtr()[b + 1]; ++q)
+            t.emplace_back(r * nV + P.innerIndexPtr()[q], c * nV + b, 1.0);
+    H.setFromTriplets(t.begin(), t.end());
+    H.makeCompressed();
+  }
+  Eigen::SimplicialLDLT<SpMat> ldlt;
+  ldlt.analyzePattern(H);
+
+  // ---- per-iteration state.
+  std::vector<Constraint> cons(size_t(nR) + nRef);
+  std::vector<LimitStencil> dataSt(nRef);
+  std::vector<int> dataFace(nRef, -1);
+  std::vector<Eigen::Vector2d> dataUV(nRef, Eigen::Vector2d(0.5, 0.5));
+  std::vector<double> val[6];  // symmetric 3×3 blocks: 00 01 02 11 12 22
+  for (auto& v : val) v.resize(nnzP);
+  Eigen::VectorXd rhs(3 * nV);
+  const int sym[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+  Eigen::MatrixXd best = X;
+  double bestObj = std::numeric_limits<double>::infinity();
+  std::vector<Vec3> ctrl(nV);
+
+  for (int it = 0; it <= p.maxIterations; ++it) {
+    auto tp = Clock::now();
+    for (int v = 0; v < nV; ++v) ctrl[v] = X.row(v).transpose();
+    // (a) fixed samples and vertex rows: projection phi along the limit normal.
+    double sSum = 0, sW = 0;
+    long misses = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sSum, sW, misses)
+    for (int r = 0; r < nR; ++r) {
+      const StencilRow& row = rows[r];
+      Constraint& c = cons[r];
+      c.idx = row.idx.data();
+      c.w = row.w.data();
+      c.n = int(row.idx.size());
+      c.weight = 0;
+      if (rowFace[r] < 0 || rowWeight[r] <= 0) continue;
+      Vec3 P0 = Vec3::Zero(), Du = Vec3::Zero(), Dv = Vec3::Zero();
+      for (int k = 0; k < c.n; ++k) {
+        const Vec3& q = ctrl[row.idx[k]];
+        P0 += row.w[k] * q;
+        Du += row.du[k] * q;
+        Dv += row.dv[k] * q;
+      }
+      Vec3 n = Du.cross(Dv);
+      const double nn = n.norm();
+      EmbreeScene::Hit h;
+      if (nn > 0) h = scene.IntersectLine(P0, n / nn, maxDist);
+      if (!h.valid) {
+        if (r < nS) ++misses;
+        h = scene.ClosestPoint(P0, maxDist);
+      }
+      if (!h.valid) continue;  // no target: no pull
+      // A hit on a sheet facing the other way (the far side of a thin part, e.g. an ear) is the
+      // wrong correspondence: no pull from this row (the reference-vertex rows cover that part).
+      if (nn > 0 && refN[h.face].dot(n) < 0) continue;
+      c.target = h.point;
+      c.normal = refN[h.face];
+      c.weight = rowWeight[r] * p.sampleWeight;
+      if (r < nS) {
+        sSum += (h.point - P0).squaredNorm();
+        sW += 1;
+      }
+    }
+    // (b) reference vertices: foot points on the current limit.
+    LimitTessellation tess = TessellateLimit(ls, ctrl, p.footpointSegments);
+    EmbreeScene limScene(tess.mesh);
+    const int Nf = p.footpointSegments, triPerFace = 2 * Nf * Nf;
+    double dSum = 0, dW = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : dSum, dW)
+    for (int i = 0; i < nRef; ++i) {
+      Constraint& c = cons[size_t(nR) + i];
+      c.weight = 0;
+      if (p.dataWeight <= 0) continue;
+      const Vec3& x = ref.V[i];
+      EmbreeScene::Hit h = limScene.ClosestPoint(x, maxDist);
+      if (!h.valid) continue;
+      const int f = h.face / triPerFace, local = h.face % triPerFace, cell = local / 2;
+      const double ci = cell % Nf, cj = cell / Nf;
+      Eigen::Vector2d c0(ci, cj), c1, c2;
+      if (local % 2 == 0) { c1 = {ci + 1, cj}; c2 = {ci + 1, cj + 1}; }
+      else { c1 = {ci + 1, cj + 1}; c2 = {ci, cj + 1}; }
+      Eigen::Vector2d uv = ((1 - h.u - h.v) * c0 + h.u * c1 + h.v * c2) / Nf;
+      // Gauss-Newton on |s(u,v) − x|², clamped to the patch.
+      Vec3 S, Du, Dv;
+      for (int g = 0; g < 3; ++g) {
+        ls.Evaluate(f, uv[0], uv[1], ctrl, &S, &Du, &Dv);
+        const Vec3 d = x - S;
+        Eigen::Matrix2d JtJ;
+        JtJ << Du.dot(Du), Du.dot(Dv), Du.dot(Dv), Dv.dot(Dv);
+        const Eigen::Vector2d g2(Du.dot(d), Dv.dot(d));
+        if (!(std::abs(JtJ.determinant()) > 1e-30)) break;
+        const Eigen::Vector2d step = JtJ.inverse() * g2;
+        uv = (uv + step).cwiseMax(0.0).cwiseMin(1.0);
+        if (step.norm() < 1e-6) break;
+      }
+      LimitStencil& st = dataSt[i];
+      ls.Stencil(f, uv[0], uv[1], st, 1);
+      S.setZero(); Du.setZero(); Dv.setZero();
+      for (int k = 0; k < st.Size(); ++k) {
+        const Vec3& q = ctrl[st.index[k]];
+        S += st.P[k] * q;
+        Du += st.Du[k] * q;
+        Dv += st.Dv[k] * q;
+      }
+      Vec3 n = Du.cross(Dv);
+      if (!(n.norm() > 0)) n = tess.normal[tess.mesh.F[h.face][0]];
+      if (!(n.norm() > 0)) continue;
+      dataFace[i] = f;
+      dataUV[i] = uv;
+      c.idx = st.index.data();
+      c.w = st.P.data();
+      c.n = st.Size();
+      c.target = x;
+      c.normal = n.normalized();
+      c.weight = p.dataWeight;
+      dSum += (x - S).squaredNorm();
+      dW += 1;
+    }
+    res.secondsProject += Since(tp);
+    const double sRms = std::sqrt(sSum / std::max(sW, 1.0));
+    const double dRms = std::sqrt(dSum / std::max(dW, 1.0));
+    const double obj = std::sqrt((p.sampleWeight * sSum + p.dataWeight * dSum) /
+                                 std::max(p.sampleWeight * sW + p.dataWeight * dW, 1e-300));
+    res.rayMissFraction = double(misses) / std::max(nS, 1);
+    if (it == 0 && res.rayMissFraction > p.maxMissFraction)
+      return "the control mesh is far from the reference: " +
+             std::to_string(int(std::round(100 * res.rayMissFraction))) +
+             "% of the limit samples find no reference surface along their normal within " +
+             std::to_string(p.maxProjectionPercent) + "% of the bbox diagonal";
+    res.rmsPerIteration.push_back(sRms);
+    res.dataRmsPerIteration.push_back(dRms);
+    res.objectivePerIteration.push_back(obj);
+    if (obj < bestObj) {
+      const bool enough = bestObj - obj < p.minImprovement * bestObj;
+      bestObj = obj;
+      best = X;
+      if (enough || it == p.maxIterations) break;
+    } else {
+      break;  // got worse: keep the previous iterate
+    }
+    prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
+
+    // ---- assemble (per face, dense local blocks) and solve.
+    auto ts = Clock::now();
+    std::vector<int> order(cons.size()), start(nF + 1, 0);
+    auto faceOf = [&](size_t k) { return k < size_t(nR) ? rowFace[k] : dataFace[k - nR]; };
+    for (size_t k = 0; k < cons.size(); ++k)
+      if (cons[k].weight > 0) ++start[faceOf(k) + 1];
+    for (int f = 0; f < nF; ++f) start[f + 1] += start[f];
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (size_t k = 0; k < cons.size(); ++k)
+        if (cons[k].weight > 0) order[fill[faceOf(k)]++] = int(k);
+    }
+    for (auto& v : val) std::fill(v.begin(), v.end(), 0.0);
+    rhs.setZero();
+#pragma omp parallel
+    {
+      std::vector<double> L[6];
+      std::vector<double> B;
+      std::vector<int> loc;
+#pragma omp for schedule(dynamic, 4)
+      for (int f = 0; f < nF; ++f) {
+        if (start[f] == start[f + 1]) continue;
+        const std::vector<int>& S = sup[f];
+        const int m = int(S.size());
+        for (auto& l : L) l.assign(size_t(m) * m, 0.0);
+        B.assign(size_t(3) * m, 0.0);
+        for (int q = start[f]; q < start[f + 1]; ++q) {
+          const Constraint& c = cons[order[q]];
+          loc.resize(c.n);
+          bool ok = true;
+          for (int k = 0; k < c.n; ++k) {
+            auto itS = std::lower_bound(S.begin(), S.end(), c.idx[k]);
+            if (itS == S.end() || *itS != c.idx[k]) { ok = false; break; }
+            loc[k] = int(itS - S.begin());
+          }
+          if (!ok) continue;  // cannot happen: Bfr stencils use the face's patch points
+          const Vec3& n = c.normal;
+          Eigen::Matrix3d Q = c.weight * (wt * Eigen::Matrix3d::Identity() + (1 - wt) * n * n.transpose());
+          const Vec3 Qt = Q * c.target;
+          const double q6[6] = {Q(0, 0), Q(0, 1), Q(0, 2), Q(1, 1), Q(1, 2), Q(2, 2)};
+          for (int a = 0; a < c.n; ++a) {
+            const double wa = c.w[a];
+            if (wa == 0) continue;
+            const size_t ra = size_t(loc[a]) * m;
+            for (int b = 0; b <= a; ++b) {  // lower half (loc is increasing); mirrored when scattered
+              const double ww = wa * c.w[b];
+              const size_t e = ra + loc[b];
+              for (int s = 0; s < 6; ++s) L[s][e] += ww * q6[s];
+            }
+            for (int d = 0; d < 3; ++d) B[size_t(d) * m + loc[a]] += wa * Qt[d];
+          }
+        }
+        const int* pf = pos[f].data();
+        for (int a = 0; a < m; ++a)
+          for (int b = 0; b <= a; ++b) {
+            const size_t e = size_t(a) * m + b;
+            if (L[0][e] == 0 && L[3][e] == 0 && L[5][e] == 0 && L[1][e] == 0 && L[2][e] == 0 && L[4][e] == 0) continue;
+            const int p1 = pf[e], p2 = pf[size_t(b) * m + a];
+            for (int s = 0; s < 6; ++s) {
+#pragma omp atomic
+              val[s][p1] += L[s][e];
+              if (a != b) {
+#pragma omp atomic
+                val[s][p2] += L[s][e];
+              }
+            }
+          }
+        for (int d = 0; d < 3; ++d)
+          for (int a = 0; a < m; ++a) {
+#pragma omp atomic
+            rhs[d * nV + S[a]] += B[size_t(d) * m + a];
+          }
+      }
+    }
+    // Damping λ = dampingWeight · mean diagonal (Levenberg; vanishes at the fixed point).
+    double diagSum = 0;
+    for (int v = 0; v < nV; ++v) diagSum += val[0][diagPos[v]] + val[3][diagPos[v]] + val[5][diagPos[v]];
+    const double lambda = p.dampingWeight * diagSum / (3.0 * nV);
+    {
+      double* hv = H.valuePtr();
+      size_t k = 0;
+      for (int c = 0; c < 3; ++c)
+        for (int b = 0; b < nV; ++b)
+          for (int r = 0; r < 3; ++r)
+            for (int q = P.outerIndexPtr()[b]; q < P.outerIndexPtr()[b + 1]; ++q) {
+              double v = val[sym[r][c]][q];
+              if (r == c && P.innerIndexPtr()[q] == b) v += lambda;
+              hv[k++] = v;
+            }
+    }
+    for (int c = 0; c < 3; ++c) rhs.segment(c * nV, nV) += lambda * X.col(c);
+    ldlt.factorize(H);
+    if (ldlt.info() != Eigen::Success) { res.secondsSolve += Since(ts); break; }
+    Eigen::VectorXd sol = ldlt.solve(rhs);
+    res.secondsSolve += Since(ts);
+    ++res.iterations;
+    if (!sol.allFinite()) break;
+    for (int c = 0; c < 3; ++c) X.col(c) = sol.segment(c * nV, nV);
+  }
+  X = best;
+  return "";
+}
+
+}  // namespace fitdetail
+}  // namespace vcgext
