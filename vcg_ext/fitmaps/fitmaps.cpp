@@ -262,7 +262,14 @@ void Evaluate(const Context& ctx, const Level& lv, const EvalSpec& e, int iBegin
           if (p.fastFlipEstimator == FitmapParams::FlipEstimator::ForwardSelf) {
             const Vec3 x = fr.Local(xw);
             const Vec3 P(x[0], x[1], g.Eval(x[0], x[1]));
-            auto h = ctx.scene->IntersectLine(fr.World(P), fr.WorldDir(g.Normal(x[0], x[1])), r);
+            // nearest hit on the normal line within r, either direction (as IntersectLine),
+            // casting first towards x: that hit is usually close, so the second ray is short
+            Vec3 N = g.Normal(x[0], x[1]);
+            if ((x - P).dot(N) < 0) N = -N;
+            const Vec3 org = fr.World(P), dir = fr.WorldDir(N);
+            auto h = ctx.scene->Intersect(org, dir, 0.0, r);
+            auto hb = ctx.scene->Intersect(org, -dir, 0.0, h.valid ? h.t : r);
+            if (hb.valid) h = hb;
             // the face itself, or a landing point on its border (a neighbour reported for a ray
             // through a shared edge, float rounding)
             hit = h.valid && (h.face == face || [&] {
