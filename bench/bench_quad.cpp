@@ -7,6 +7,7 @@
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else /tmp/cgal/data/meshes/bunny00.off).
 //   --tau: tau values in percent (default 1,10); Fitmaps from vcgext::ComputeFitmaps (Fast mode).
 //   --no-fit: skip the §3.5 global fit (vcgext::FitCatmullClark) before the second projectability figure.
+//   --target N: stop at N patches; --no-m: no M-fitmap test (with --target: a fixed budget).
 //   --ray PCT: max projection ray length, % of the bbox diagonal (default 5).
 //   --standin: crude curvature-based stand-ins for S and M instead of ComputeFitmaps.
 //   --obj PREFIX: writes PREFIX_tau<PCT>.obj (control mesh, real quads) of the last run.
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
   const char* env = std::getenv("FITMAP_DATA_DIR");
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
   int runs = 3, threads = 2, target = 0;
-  bool standin = false, finalFit = true;
+  bool standin = false, finalFit = true, useM = true;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
   for (int i = 1; i < argc; ++i) {
@@ -146,6 +147,7 @@ int main(int argc, char** argv) {
     else if (a == "--target" && i + 1 < argc) target = std::atoi(argv[++i]);
     else if (a == "--standin") standin = true;
     else if (a == "--no-fit") finalFit = false;
+    else if (a == "--no-m") useM = false;
     else if (a == "--ray" && i + 1 < argc) rayPct = std::atof(argv[++i]);
     else if (a == "--obj" && i + 1 < argc) objPrefix = argv[++i];
     else if (a == "--dump-unreached" && i + 1 < argc) dumpUnreached = argv[++i];
@@ -187,8 +189,16 @@ int main(int argc, char** argv) {
       S = fr.S;
       M = fr.M;
     }
+    {
+      std::vector<double> m(M);
+      std::sort(m.begin(), m.end());
+      double d = vcgext::BBoxDiagonal(in.V);
+      auto pc = [&](double q) { return 100.0 * m[size_t(q * double(m.size() - 1))] / d; };
+      std::printf("\n  M-fitmap (%% bbox diagonal): 10%% %.2f, median %.2f, 90%% %.2f\n", pc(0.1), pc(0.5), pc(0.9));
+    }
     vcgext::QuadSimplifyParams p;
     p.targetPatches = target;
+    p.useMFitmap = useM;
     std::vector<double> tq, tinit, tsimp, ttot, tcpu;
     vcgext::QuadSimplifyResult r;
     for (int run = 0; run < runs; ++run) {
