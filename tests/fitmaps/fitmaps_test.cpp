@@ -367,6 +367,22 @@ TEST(Fitmaps, AwkwardMeshesGiveFiniteValues) {
   }
 }
 
+TEST(Fitmaps, FewRadiiAndExtremeRadiusWork) {
+  TriData m = testsupport::Icosphere(2, 1.0);
+  for (auto mode : kModes)
+    for (int h : {1, 2, 3})
+      for (double pct : {0.1, 100.0}) {
+        FitmapParams p = Mode(mode);
+        p.numRadii = h;
+        p.maxRadiusPercent = pct;
+        FitmapResult r = RunFitmaps(m, p);
+        ExpectAllFinite(r, std::string(Name(mode)) + " h=" + std::to_string(h));
+        ASSERT_EQ(int(r.radii.size()), h);
+        for (size_t i = 1; i < r.radii.size(); ++i) EXPECT_GE(r.radii[i], r.radii[i - 1]);
+        for (double M : r.M) EXPECT_TRUE(std::find(r.radii.begin(), r.radii.end(), M) != r.radii.end());
+      }
+}
+
 TEST(Fitmaps, InvalidInputIsReported) {
   TriData plane = testsupport::PlaneGrid(4, 4);
   vcgext::EmbreeScene scene(plane);
