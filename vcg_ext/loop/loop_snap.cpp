@@ -134,7 +134,7 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
                                  double v, double w, const LoopSnapParams& sp) {
   LoopSnapResult res;
   if (!surf.Ok() || surf.NumFaces() == 0 || !p.allFinite()) return res;
-  const double diag = BBoxDiagonal(surf.Net().V);
+  const double diag = surf.NetDiagonal();
   Local L{surf, p, sp.relTol * diag};
   if (face < 0 || face >= surf.NumFaces()) {
     // start at the closest point of the control net

@@ -458,6 +458,7 @@ struct LoopSurface::Impl {
   std::vector<std::vector<int>> hardNb;  // per vertex: hard-edge neighbours
   Adjacency vv;
   int maxDepth = 25;
+  double diag = 0;
   /// Exact limit masks (vertex, weight) of darts: smooth vertices with one hard edge. Their
   /// 1-ring subdivision matrix has a midpoint row for the hard edge, so the smooth Loop limit
   /// mask (which OpenSubdiv's Sdc also uses for darts) is only an approximation.
@@ -613,6 +614,7 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
     if (it == he.end() || it->key != key) { error_ = "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") is not an edge of the mesh"; return; }
     for (; it != he.end() && it->key == key; ++it) hard_[it->f][it->k] = 1;
   }
+  impl_->diag = BBoxDiagonal(net.V);
   // vertex types
   impl_->vv = VertexVertexAdjacency(net.F, nV);
   Adjacency vf = VertexFaceAdjacency(net.F, nV);
@@ -797,6 +799,8 @@ size_t LoopSurface::CacheBytes() const {
   for (const auto& n : impl_->nets) b += n.P.size() * (sizeof(Vec3) + 1) + n.F.size() * (sizeof(Tri) + 3);
   return b;
 }
+
+double LoopSurface::NetDiagonal() const { return impl_->diag; }
 
 bool LoopSurface::Evaluate(int face, double v, double w, LoopEval& e, int order) const {
   if (!Ok() || face < 0 || face >= NumFaces()) return false;

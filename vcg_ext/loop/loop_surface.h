@@ -129,6 +129,8 @@ class LoopSurface {
   std::pair<int, int> VertexCorner(int i) const { return vcorner_[i]; }
   /// Memory of the precomputed patches, bytes.
   size_t CacheBytes() const;
+  /// Bounding-box diagonal of the control net (computed once at construction).
+  double NetDiagonal() const;
 
   /// Internal representation, public for the implementation file only.
   struct Impl;

@@ -288,33 +288,43 @@ struct Refiner {
       edges.insert(Key(m, d));
     }
   }
-  static double MinAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
-    auto ang = [](const Vec3& p, const Vec3& q, const Vec3& r) {
-      Vec3 u = q - p, v = r - p;
-      return std::atan2(u.cross(v).norm(), u.dot(v));
-    };
-    return std::min(ang(a, b, c), std::min(ang(b, c, a), ang(c, a, b)));
+  /// Largest cosine of the three angles (monotone in the smallest angle, no atan2).
+  static double MaxCos(const Vec3& a, const Vec3& b, const Vec3& c) {
+    Vec3 ab = b - a, bc = c - b, ca = a - c;
+    double lab = ab.norm(), lbc = bc.norm(), lca = ca.norm();
+    if (!(lab > 0 && lbc > 0 && lca > 0)) return 1.0;
+    double ca_ = -ab.dot(ca) / (lab * lca), cb = -ab.dot(bc) / (lab * lbc), cc = -bc.dot(ca) / (lbc * lca);
+    return std::max(ca_, std::max(cb, cc));
   }
-  int SwapPass() {
+  std::vector<char> dirty;       // per face: centroid data must be recomputed
+  std::vector<int> touched;      // faces changed since the last swap round
+  void Touch(int f) {
+    if (f < 0) return;
+    if (int(dirty.size()) <= f) dirty.resize(F.size(), 1);
+    if (!dirty[f]) { dirty[f] = 1; }
+    touched.push_back(f);
+  }
+  /// Max-min angle swaps of the edges of the given faces; returns the faces changed.
+  int SwapFaces(const std::vector<int>& cand, std::vector<int>& changed) {
     int swaps = 0;
-    const int nF = int(F.size());
-    for (int f = 0; f < nF; ++f)
+    for (int f : cand)
       for (int k = 0; k < 3; ++k) {
         int g = opp[f][k];
-        if (g < 0 || g < f || hard[f][k]) continue;
+        if (g < 0 || hard[f][k]) continue;
         int a = F[f][k], b = F[f][(k + 1) % 3], c = F[f][(k + 2) % 3];
         int j = 0;
         while (j < 3 && !(F[g][j] == b && F[g][(j + 1) % 3] == a)) ++j;
         if (j == 3) continue;
         int d = F[g][(j + 2) % 3];
-        if (c == d || edges.count(Key(c, d))) continue;
+        if (c == d) continue;
         const Vec3 &A = P[a], &B = P[b], &C = P[c], &D = P[d];
-        double before = std::min(MinAngle(A, B, C), MinAngle(B, A, D));
-        double after = std::min(MinAngle(C, A, D), MinAngle(D, B, C));
-        if (after <= before + 1e-9) continue;
+        double before = std::max(MaxCos(A, B, C), MaxCos(B, A, D));
+        double after = std::max(MaxCos(C, A, D), MaxCos(D, B, C));
+        if (after >= before - 1e-9) continue;
         Vec3 n0 = (B - A).cross(C - A) + (A - B).cross(D - B);
         Vec3 n1 = (A - C).cross(D - C), n2 = (B - D).cross(C - D);
         if (n1.dot(n0) <= 0 || n2.dot(n0) <= 0 || n1.dot(n2) <= 0.1 * n1.norm() * n2.norm()) continue;
+        if (edges.count(Key(c, d))) continue;
         int fbc = opp[f][(k + 1) % 3], fca = opp[f][(k + 2) % 3];
         unsigned char hbc = hard[f][(k + 1) % 3], hca = hard[f][(k + 2) % 3];
         int gad = opp[g][(j + 1) % 3], gdb = opp[g][(j + 2) % 3];
@@ -329,6 +339,9 @@ struct Refiner {
         SetOpp(fbc, b, c, g);
         edges.erase(Key(a, b));
         edges.insert(Key(c, d));
+        dirty[f] = dirty[g] = 1;
+        changed.push_back(f);
+        changed.push_back(g);
         ++swaps;
         break;  // face f changed: move on
       }
@@ -365,21 +378,31 @@ LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams&
       R.hard[f][k] = s.EdgeHard(f, k) ? 1 : 0;
       R.edges.insert(Refiner::Key(R.F[f][k], remap[net.F[f][(k + 1) % 3]]));
     }
-  const double diag = BBoxDiagonal(net.V);
+  const double diag = s.NetDiagonal();
   const bool adaptive = p.mode == LoopRefineParams::Mode::Adaptive;
+  // per-face centroid data, kept between passes and recomputed only for changed faces
   std::vector<double> metric;
   std::vector<int> cf;
   std::vector<double> cvv, cww;
   std::vector<Vec3> cp;
+  R.dirty.assign(R.F.size(), 1);
+  R.edges.reserve(size_t(p.targetFaces) * 2);
+  R.P.reserve(size_t(p.targetFaces) / 2 + R.P.size() + 16);
+  std::vector<int> todo, order, cand, changed;
   while (int(R.F.size()) < p.targetFaces) {
     const int m = int(R.F.size());
-    metric.assign(m, 0);
-    cf.assign(m, -1);
-    cvv.assign(m, 0);
-    cww.assign(m, 0);
-    cp.assign(m, Vec3::Zero());
-#pragma omp parallel for schedule(dynamic, 512)
-    for (int f = 0; f < m; ++f) {
+    metric.resize(m, 0);
+    cf.resize(m, -1);
+    cvv.resize(m, 0);
+    cww.resize(m, 0);
+    cp.resize(m, Vec3::Zero());
+    R.dirty.resize(m, 1);
+    todo.clear();
+    for (int f = 0; f < m; ++f)
+      if (R.dirty[f]) { todo.push_back(f); R.dirty[f] = 0; }
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int i = 0; i < int(todo.size()); ++i) {
+      const int f = todo[i];
       const Tri& t = R.F[f];
       double area = 0.5 * (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).norm();
       int face;
@@ -404,7 +427,7 @@ LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams&
     res.maxMetric = mx;
     if (p.tolerance > 0 && mx <= p.tolerance) break;
     int K = std::max(1, std::min(int(std::ceil(p.batchFraction * m)), (p.targetFaces - m + 1) / 2));
-    std::vector<int> order(m);
+    order.resize(m);
     for (int i = 0; i < m; ++i) order[i] = i;
     if (K < m) std::nth_element(order.begin(), order.begin() + K, order.end(), [&](int a, int b) { return metric[a] > metric[b]; });
     if (p.tolerance > 0) {  // never split faces already below the tolerance
@@ -413,40 +436,58 @@ LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams&
         if (metric[order[i]] > p.tolerance) order[k2++] = order[i];
       K = k2;
     }
-    std::vector<std::pair<int, int>> hardSplit;  // (a,b) directed edges to split
+    R.touched.clear();
+    std::vector<std::array<int, 3>> hardSplit;  // (a, b, face whose edge 0 is a->b)
     for (int i = 0; i < K; ++i) {
       int f = order[i];
       const Tri t = R.F[f];
-      for (int k = 0; k < 3; ++k)
-        if (R.hard[f][k]) hardSplit.push_back({t[k], t[(k + 1) % 3]});
+      const int f2 = int(R.F.size());
       int pidx = R.AddVertex(cp[f], cf[f], cvv[f], cww[f]);
       R.SplitFace(f, pidx);
+      // SplitFace keeps the outer edge k of f at index 0 of face {f, f2, f2 + 1}[k]
+      const int fk[3] = {f, f2, f2 + 1};
+      for (int k = 0; k < 3; ++k)
+        if (R.hard[fk[k]][0]) hardSplit.push_back({t[k], t[(k + 1) % 3], fk[k]});
+      R.dirty.resize(R.F.size(), 1);
+      R.Touch(f); R.Touch(f2); R.Touch(f2 + 1);
       ++res.insertions;
     }
     // hard edges of refined faces: split at the parameter midpoint (a point of the crease curve)
     for (auto& e : hardSplit) {
-      if (!R.edges.count(Refiner::Key(e.first, e.second))) continue;  // already split
-      // the faces made by SplitFace keep their outer edge at index 0: f, m + 2i, m + 2i + 1
-      int face = -1, kk = -1;
-      for (int i = 0; i < K && face < 0; ++i) {
-        int f = order[i];
-        int cand[3] = {f, m + 2 * i, m + 2 * i + 1};
-        for (int c : cand)
-          if (c < int(R.F.size()) && R.F[c][0] == e.first && R.F[c][1] == e.second) { face = c; kk = 0; break; }
-      }
-      if (face < 0) continue;
-      int vs[2] = {e.first, e.second};
+      if (!R.edges.count(Refiner::Key(e[0], e[1]))) continue;  // already split (from the other side)
+      int face = e[2];
+      if (!(R.F[face][0] == e[0] && R.F[face][1] == e[1])) continue;  // cannot happen (see above)
+      int vs[2] = {e[0], e[1]};
       int pfce;
       double v, w;
       R.Average(vs, 2, pfce, v, w);
       int mid = R.AddVertex(s.Position(pfce, v, w), pfce, v, w);
-      R.SplitEdge(face, kk, mid);
+      int g = R.opp[face][0];
+      const int nf = int(R.F.size());
+      R.SplitEdge(face, 0, mid);
+      R.dirty.resize(R.F.size(), 1);
+      R.Touch(face); R.Touch(g);
+      for (int x = nf; x < int(R.F.size()); ++x) R.Touch(x);
       ++res.edgeSplits;
     }
-    for (int sp = 0; sp < p.swapPasses; ++sp) {
-      int n = R.SwapPass();
+    // max-min angle swaps, incremental: the faces changed by this pass, then those changed by swaps
+    cand.swap(R.touched);
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+    for (int sp = 0; sp < p.swapPasses && !cand.empty(); ++sp) {
+      changed.clear();
+      int n = R.SwapFaces(cand, changed);
       res.swaps += n;
       if (n == 0) break;
+      // next round: the swapped faces and their neighbours
+      cand.clear();
+      for (int f : changed) {
+        cand.push_back(f);
+        for (int k = 0; k < 3; ++k)
+          if (R.opp[f][k] >= 0) cand.push_back(R.opp[f][k]);
+      }
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     }
     ++res.passes;
     prog(100.0 * double(R.F.size()) / p.targetFaces, "Loop surrogate: refining");

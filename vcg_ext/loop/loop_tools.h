@@ -68,7 +68,7 @@ struct LoopRefineParams {
   /// Uniform: area / diagonal^2). 0: target count only.
   double tolerance = 0;
   double batchFraction = 0.25;  ///< share of the faces (largest metric first) split per pass
-  int swapPasses = 2;           ///< max-min angle swap sweeps after each insertion pass
+  int swapPasses = 2;           ///< max-min angle swap rounds after each insertion pass (first over the faces the pass changed, then over the faces swapped and their neighbours)
   /// Adaptive: metric = (max|k| + flatWeight / diag) * area, so flat regions still refine slowly.
   double flatWeight = 1.0;
 };
