@@ -272,3 +272,21 @@ TEST(QuadSimplify, RealScansKeepTheGuarantees) {
     EXPECT_GT(r.collapses, 0) << name;
   }
 }
+
+TEST(QuadSimplify, ProgressIsMonotoneAndBounded) {
+  auto t = testsupport::Icosphere(3);
+  vcgext::EmbreeScene scene(t);
+  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 1.0);
+  static std::vector<int> seen;
+  seen.clear();
+  auto cb = [](const int pos, const char*) -> bool {
+    seen.push_back(pos);
+    return true;
+  };
+  auto r = vcgext::SimplifyToQuads(t, scene, S, M, {}, cb);
+  ASSERT_EQ(r.error, "");
+  ASSERT_GE(seen.size(), 2u);
+  for (size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
+  EXPECT_GE(seen.front(), 0);
+  EXPECT_LE(seen.back(), 100);
+}

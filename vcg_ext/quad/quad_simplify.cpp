@@ -302,8 +302,7 @@ class Simplifier {
         if (Pinned(v)) {
           avg = K.P[v];
         } else if (K.IsBoundary(v)) {
-          K.Fan(v, fan);
-          avg = 0.5 * (K.P[fan.front().p] + K.P[fan.back().n]);
+          avg = K.Fan(v, fan) ? Vec3(0.5 * (K.P[fan.front().p] + K.P[fan.back().n])) : K.P[v];
         } else {
           for (int g : K.VF(v)) avg += K.Centroid(g);
           avg /= double(K.VF(v).size());
@@ -439,7 +438,7 @@ class Simplifier {
     return 0;
   }
 
-  bool Run(vcg::CallBackPos* cb) {
+  bool Run(Progress& prog) {
     const int nf = K.NumFaceSlots(), nv = K.NumVertexSlots();
     info_.assign(nf, FaceInfo());
     stamp_.assign(nf, 0);
@@ -464,7 +463,6 @@ class Simplifier {
     for (int f : alive) Push(f);
     QuadMesh::Invariants inv;
     if (p_.validateEveryOperation) inv = K.ComputeInvariants();
-    Progress prog(cb);
     const int initial = K.NumFaces();
     while (!heap_.empty()) {
       if (p_.targetPatches > 0 && K.NumFaces() <= p_.targetPatches) break;
@@ -648,9 +646,11 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   if (sim.K.NumFaces() <= std::max(6, params.targetPatches)) {
     res.message = "mesh too small to simplify (" + std::to_string(sim.K.NumFaces()) + " quads): returning its pure-quad mesh";
   } else {
-    if (!sim.Run(cb)) return res;
+    Progress sub = prog.Sub(10, 95);
+    if (!sim.Run(sub)) return res;
     if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
   }
+  prog(96, "Quad simplification: final checks", true);
   if (res.collapses > 0) sim.FixFlips();
   res.flippedPatches = sim.CountFlipped();
   res.flippedVertices = sim.CountFlippedVertices();
