@@ -136,6 +136,7 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   if (normalMap) a.normalRGB.assign(size_t(a.width) * a.height * 3, 128);
   std::vector<Vec3> vn;
   if (normalMap) vn = VertexNormals(ref);
+  const std::vector<Vec3> refN = FaceNormals(ref);
   int misses = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : misses)
   for (int f = 0; f < nF; ++f) {
@@ -146,7 +147,7 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
         const Vec3 P = fitdetail::LimitPointNormal(ls, ctrl, f, double(i) / (R - 1), double(j) / (R - 1), &n);
         double d = 0;
         EmbreeScene::Hit h;
-        if (n.squaredNorm() > 0) h = scene.IntersectLine(P, n, maxDist);
+        if (n.squaredNorm() > 0) h = fitdetail::IntersectLineOriented(scene, refN, P, n, maxDist);
         if (h.valid) {
           d = h.t;
         } else {

@@ -68,6 +68,29 @@ bool Project(const EmbreeScene& scene, const Vec3& p, const Vec3& n, double maxD
   return false;
 }
 
+EmbreeScene::Hit IntersectLineOriented(const EmbreeScene& scene, const std::vector<Vec3>& refN, const Vec3& p,
+                                       const Vec3& n, double maxDist) {
+  EmbreeScene::Hit best;
+  if (!(n.squaredNorm() > 0)) return best;
+  const double eps = 1e-5 * maxDist;  // past the hit (Embree works in float)
+  for (int side = 0; side < 2; ++side) {
+    const Vec3 dir = side == 0 ? n : Vec3(-n);
+    double tnear = 0;
+    for (int layer = 0; layer < 8; ++layer) {
+      EmbreeScene::Hit h = scene.Intersect(p, dir, tnear, maxDist);
+      if (!h.valid) break;
+      if (best.valid && h.t >= std::abs(best.t)) break;
+      if (refN[h.face].dot(n) >= 0) {
+        best = h;
+        if (side == 1) best.t = -h.t;
+        break;
+      }
+      tnear = h.t + eps;
+    }
+  }
+  return best;
+}
+
 }  // namespace fitdetail
 
 FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitParams& p,

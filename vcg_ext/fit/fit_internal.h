@@ -22,6 +22,14 @@ double PatchArea(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, i
 /// exists; `rayHit` says whether the ray found it.
 bool Project(const EmbreeScene& scene, const Vec3& p, const Vec3& n, double maxDist, Vec3& target, bool* rayHit);
 
+/// Projection along the unit limit normal n that skips wrongly oriented sheets: the nearest hit
+/// of the line p ± t·n (|t| <= maxDist) on a reference triangle whose normal `refN[face]` agrees
+/// with n (dot >= 0). A hit on a triangle facing the other way is the far side of a thin part
+/// (an ear seen through itself) and is passed through (up to 8 layers per side). Hit.t is signed
+/// (negative behind p). Invalid when no such hit exists.
+EmbreeScene::Hit IntersectLineOriented(const EmbreeScene& scene, const std::vector<Vec3>& refN, const Vec3& p,
+                                       const Vec3& n, double maxDist);
+
 /// Limit point and unit normal at (f,u,v). Where the tangents are degenerate (e.g. smooth
 /// valence-2 boundary corners) the normal is taken 1e-4 inside the patch; zero if still degenerate.
 Vec3 LimitPointNormal(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, double u, double v, Vec3* n);

@@ -159,6 +159,8 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
       if (!h.valid) continue;  // no target: no pull
       // A hit on a sheet facing the other way (the far side of a thin part, e.g. an ear) is the
       // wrong correspondence: no pull from this row (the reference-vertex rows cover that part).
+      // (Passing through to the nearest consistently oriented sheet, as the bake does, was
+      // measured worse for the fit: 3.88 vs 3.75 permille on bunny00.)
       if (nn > 0 && refN[h.face].dot(n) < 0) continue;
       c.target = h.point;
       c.normal = refN[h.face];
