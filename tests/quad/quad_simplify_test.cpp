@@ -157,8 +157,9 @@ TEST(QuadSimplify, AdaptivityFollowsTheSFitmap) {
   auto ru = vcgext::SimplifyToQuads(t, scene, S1, M, p);
   ExpectGuarantees(t, ru);
   double uniform = AreaRatio(ru);
-  EXPECT_GT(adaptive, 3.0) << n[0] << " patches inside, " << n[1] << " outside";
-  EXPECT_LT(uniform, 2.0);
+  // measured: adaptive 2.9-4.0 (depends on the order of equal-cost collapses), uniform ~1.2
+  EXPECT_GT(adaptive, 2.0) << n[0] << " patches inside, " << n[1] << " outside; uniform " << uniform;
+  EXPECT_LT(uniform, 1.6);
   EXPECT_GT(adaptive, 2.0 * uniform);
   // boundary vertices stay on the square's boundary
   vcgext::quad::QuadMesh q(r.quads.V, r.quads.F);
