@@ -62,7 +62,7 @@ struct FitParams {
   double tangentWeight = 0.01;         ///< TangentDistance: weight of the tangential residual components (1 = point-to-point)
   double sampleWeight = 1.0;           ///< TangentDistance: weight of the paper's limit-sample (and vertex) rows
   double dataWeight = 1.0;             ///< TangentDistance: weight of a reference-vertex row relative to a limit-sample row
-  int footpointSegments = 8;           ///< TangentDistance: tessellation (per patch side) used to seed the foot points
+  int footpointSegments = 4;           ///< TangentDistance: tessellation (per patch side) used to seed the foot points
 };
 
 /// Outcome of FitCatmullClark. When `error` is non-empty, only `error` is meaningful.
