@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string>
+#include <unordered_map>
 #ifdef __linux__
 #include <sys/mman.h>
 #endif
@@ -438,6 +440,67 @@ struct TriCache {
   std::vector<LNet> nets;
 };
 
+/// Self-similar local net below the cache depth (Stam's observation without the eigenbasis): the
+/// net of a corner sub-triangle touching the one irregular vertex has the same topology at every
+/// level, so one level is a fixed linear map S (n x n) and the three other children are regular
+/// tiles whose 12 control points are fixed linear maps T_c (12 x n) of the net. Depends only on
+/// the topology (faces, hard flags, vertex types), so it is shared by all nets of one configuration.
+struct Ring {
+  int n = 0, kc = -1;              // net size, the child that stays irregular
+  std::vector<double> S;           // n x n, row-major
+  std::array<std::vector<double>, 4> T;  // 12 x n, row-major, for c != kc
+};
+
+std::string TopologyKey(const LNet& n) {
+  std::string k;
+  k.reserve(16 + n.F.size() * 15 + n.type.size());
+  auto put = [&](int x) { k.append(reinterpret_cast<const char*>(&x), sizeof(int)); };
+  put(int(n.P.size()));
+  put(n.target);
+  for (size_t f = 0; f < n.F.size(); ++f) {
+    for (int c = 0; c < 3; ++c) put(n.F[f][c]);
+    for (int c = 0; c < 3; ++c) k.push_back(char(n.H[f][c]));
+  }
+  for (unsigned char t : n.type) k.push_back(char(t));
+  return k;
+}
+
+/// Builds the Ring of a net, or returns false when the net is not self-similar.
+bool BuildRing(const LNet& net, Ring& r) {
+  const int n = int(net.P.size());
+  if (n > 96) return false;
+  Vec3 X[12];
+  for (int kc = 0; kc < 3; ++kc) {
+    LNet ch = Subdivide(net, kc);
+    if (ch.F != net.F || ch.H != net.H || ch.type != net.type || ch.target != net.target || ch.P.size() != net.P.size()) continue;
+    bool ok = true;
+    for (int c = 0; c < 4 && ok; ++c)
+      if (c != kc) ok = Gather(Subdivide(net, c), X);
+    if (!ok) continue;
+    r.n = n;
+    r.kc = kc;
+    r.S.assign(size_t(n) * n, 0.0);
+    for (int c = 0; c < 4; ++c)
+      if (c != kc) r.T[c].assign(size_t(12) * n, 0.0);
+    // columns by linearity: three unit vectors per pass (one per coordinate)
+    LNet b = net;
+    for (int j0 = 0; j0 < n; j0 += 3) {
+      for (int i = 0; i < n; ++i) b.P[i] = Vec3(i == j0, i == j0 + 1, i == j0 + 2);
+      LNet sb = Subdivide(b, kc);
+      for (int i = 0; i < n; ++i)
+        for (int d = 0; d < 3 && j0 + d < n; ++d) r.S[size_t(i) * n + j0 + d] = sb.P[i][d];
+      for (int c = 0; c < 4; ++c) {
+        if (c == kc) continue;
+        if (!Gather(Subdivide(b, c), X)) return false;
+        for (int m = 0; m < 12; ++m)
+          for (int d = 0; d < 3 && j0 + d < n; ++d) r.T[c][size_t(m) * n + j0 + d] = X[m][d];
+      }
+    }
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 // Flat evaluation tree (all faces in one arena each): a "code" is a node (>= 0: index into
@@ -454,6 +517,8 @@ struct LoopSurface::Impl {
   std::vector<std::array<int32_t, 4>> nodes;
   std::vector<Patch> tiles;
   std::vector<LNet> nets;
+  std::vector<int> netRing;      // per net: index into rings, -1 if not self-similar (slow path)
+  std::vector<Ring> rings;
   std::vector<TriCache> cache;  // construction only (irregular faces, DFS), freed after flattening
   std::vector<std::vector<int>> hardNb;  // per vertex: hard-edge neighbours
   Adjacency vv;
@@ -775,6 +840,21 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
     tc = TriCache();
   }
   std::vector<TriCache>().swap(I.cache);
+  {
+    std::unordered_map<std::string, int> cfg;
+    I.netRing.assign(I.nets.size(), -1);
+    for (size_t i = 0; i < I.nets.size(); ++i) {
+      std::string key = TopologyKey(I.nets[i]);
+      auto it = cfg.find(key);
+      if (it == cfg.end()) {
+        Ring r;
+        int id = -1;
+        if (BuildRing(I.nets[i], r)) { id = int(I.rings.size()); I.rings.push_back(std::move(r)); }
+        it = cfg.emplace(std::move(key), id).first;
+      }
+      I.netRing[i] = it->second;
+    }
+  }
 #ifdef __linux__
   // transparent huge pages for the tile arena: random queries otherwise miss the TLB on most tiles
   {
@@ -797,6 +877,7 @@ bool LoopSurface::FaceIsRegular(int f) const { return IsTile(impl_->root[f]); }
 size_t LoopSurface::CacheBytes() const {
   size_t b = impl_->tiles.size() * sizeof(Patch) + impl_->nodes.size() * sizeof(impl_->nodes[0]) + impl_->root.size() * 4;
   for (const auto& n : impl_->nets) b += n.P.size() * (sizeof(Vec3) + 1) + n.F.size() * (sizeof(Tri) + 3);
+  for (const auto& r : impl_->rings) b += (r.S.size() + 3 * 12 * size_t(r.n)) * sizeof(double);
   return b;
 }
 
@@ -825,6 +906,46 @@ bool LoopSurface::Evaluate(int face, double v, double w, LoopEval& e, int order)
     }
     if (IsTile(code)) {
       EvalPatch(I.tiles[-1 - code], v, w, order, e);
+    } else if (I.netRing[code - kNetBase] >= 0) {
+      // self-similar corner net: one matrix-vector product per level, no allocation
+      const LNet& n0 = I.nets[code - kNetBase];
+      const Ring& R = I.rings[I.netRing[code - kNetBase]];
+      const int n = R.n;
+      double buf[2][96 * 3];
+      double* P = buf[0];
+      double* Q = buf[1];
+      for (int i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d) P[3 * i + d] = n0.P[i][d];
+      for (;;) {
+        int c = depth >= I.maxDepth ? 3 : ChildOf(v, w);  // the nudge (Fig. 8)
+        double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
+        double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
+        v = nv; w = nw;
+        ClampParam(v, w);
+        StepJ(J, c);
+        ++depth;
+        if (c != R.kc || depth > I.maxDepth + 2) {
+          if (c == R.kc) c = 3;  // cannot happen (the nudge picks the regular centre child)
+          Vec3 X[12];
+          const double* T = R.T[c].data();
+          for (int m = 0; m < 12; ++m) {
+            double x = 0, y = 0, z = 0;
+            const double* row = T + size_t(m) * n;
+            for (int j = 0; j < n; ++j) { x += row[j] * P[3 * j]; y += row[j] * P[3 * j + 1]; z += row[j] * P[3 * j + 2]; }
+            X[m] = Vec3(x, y, z);
+          }
+          EvalPatch(MakePatch(X), v, w, order, e);
+          break;
+        }
+        const double* S = R.S.data();
+        for (int i = 0; i < n; ++i) {
+          double x = 0, y = 0, z = 0;
+          const double* row = S + size_t(i) * n;
+          for (int j = 0; j < n; ++j) { x += row[j] * P[3 * j]; y += row[j] * P[3 * j + 1]; z += row[j] * P[3 * j + 2]; }
+          Q[3 * i] = x; Q[3 * i + 1] = y; Q[3 * i + 2] = z;
+        }
+        std::swap(P, Q);
+      }
     } else {
       LNet n = I.nets[code - kNetBase];
       Vec3 X[12];
