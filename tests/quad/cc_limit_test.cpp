@@ -103,6 +103,32 @@ TEST(CCLimit, FaceCentreMatchesOpenSubdiv) {
   }
 }
 
+TEST(CCLimit, EdgeMidpointMatchesOpenSubdiv) {
+  for (const auto& q : Meshes()) {
+    vcgext::LimitSurface ls = vcgext::LimitSurface::FromQuads(q);
+    QuadMesh m(q.V, q.F);
+    int interior = 0, boundary = 0;
+    for (int f = 0; f < int(q.F.size()); ++f)
+      for (int k = 0; k < 4; ++k) {
+        Vec3 c, n(0, 0, 0), P, Du, Dv;
+        bool hasN = false;
+        ASSERT_TRUE(vcgext::quad::EdgeMidLimit(m, f, k, nullptr, &c, &n, &hasN));
+        double u0, v0, u1, v1;
+        ls.CornerUV(f, k, u0, v0);
+        ls.CornerUV(f, (k + 1) & 3, u1, v1);
+        ASSERT_TRUE(ls.Evaluate(f, 0.5 * (u0 + u1), 0.5 * (v0 + v1), q.V, &P, &Du, &Dv));
+        EXPECT_LT((c - P).norm(), 1e-9) << "face " << f << " edge " << k;
+        if (hasN) {
+          EXPECT_GT(n.dot(Du.cross(Dv).normalized()), 1.0 - 1e-9) << "face " << f << " edge " << k;
+          ++interior;
+        } else {
+          ++boundary;
+        }
+      }
+    EXPECT_GT(interior, 0);
+  }
+}
+
 TEST(CCLimit, GlobalAndLocalInterpolation) {
   for (const auto& q : Meshes()) {
     QuadMesh m(q.V, q.F);

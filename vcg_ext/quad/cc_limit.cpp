@@ -120,6 +120,48 @@ bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 V[4], Vec3* pos, Vec3*
   return true;
 }
 
+bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal) {
+  if (hasNormal) *hasNormal = false;
+  if (!m.FaceAlive(f)) return false;
+  const Quad& q = m.F[f];
+  const int a = q[k], b = q[(k + 1) & 3];
+  const Vec3 VPa = vp ? vp[k] : VertexPoint(m, a);
+  const Vec3 VPb = vp ? vp[(k + 1) & 3] : VertexPoint(m, b);
+  const int g = m.AcrossEdge(f, k);
+  if (g < 0) {
+    const Vec3 E = 0.5 * (m.P[a] + m.P[b]);
+    if (pos) *pos = (VPa + 4.0 * E + VPb) / 6.0;
+    return true;
+  }
+  // edge point of edge j of face h (midpoint on the boundary)
+  auto edgePoint = [&](int h, int j) {
+    const Vec3& x = m.P[m.F[h][j]];
+    const Vec3& y = m.P[m.F[h][(j + 1) & 3]];
+    const int o = m.AcrossEdge(h, j);
+    return o < 0 ? Vec3(0.5 * (x + y)) : Vec3(0.25 * (x + y + m.Centroid(h) + m.Centroid(o)));
+  };
+  const Vec3 FPf = m.Centroid(f), FPg = m.Centroid(g);
+  const Vec3 E = 0.25 * (m.P[a] + m.P[b] + FPf + FPg);
+  const int kb = m.CornerOf(g, b);  // g holds the twin b -> a as its edge kb
+  if (kb < 0) return false;
+  // 3x3 level-1 grid around E: u from a to b, v towards f (so du x dv follows f's orientation)
+  const Vec3 Dpp = edgePoint(f, (k + 1) & 3);   // (u+, v+): f's edge b -> next
+  const Vec3 Dmp = edgePoint(f, (k + 3) & 3);   // (u-, v+): f's edge prev -> a
+  const Vec3 Dpm = edgePoint(g, (kb + 3) & 3);  // (u+, v-): g's edge prev -> b
+  const Vec3 Dmm = edgePoint(g, (kb + 1) & 3);  // (u-, v-): g's edge a -> next
+  if (pos) *pos = (16.0 * E + 4.0 * (VPa + VPb + FPf + FPg) + (Dpp + Dmp + Dpm + Dmm)) / 36.0;
+  if (normal) {
+    Vec3 du = 4.0 * (VPb - VPa) + (Dpp + Dpm - Dmp - Dmm);
+    Vec3 dv = 4.0 * (FPf - FPg) + (Dpp + Dmp - Dpm - Dmm);
+    Vec3 nr = du.cross(dv);
+    double l = nr.norm();
+    if (!(l > 0)) return false;
+    *normal = nr / l;
+    if (hasNormal) *hasNormal = true;
+  }
+  return true;
+}
+
 InterpolationStats SolveInterpolationLocal(QuadMesh& m, const std::vector<int>& W,
                                            const std::vector<Vec3>& targets, double tol, int maxIter) {
   InterpolationStats st;

@@ -32,6 +32,15 @@ bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal);
 /// Same, with the Catmull-Clark vertex points of the face's 4 corners supplied by the caller
 /// (VertexPoint), so that neighbouring faces share them.
 bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 vertexPoints[4], Vec3* pos, Vec3* normal);
+/// Limit point (and, for an interior edge, unit normal) at the midpoint (u = 1/2 on the edge) of
+/// edge k (corner k -> corner k+1) of face f. One local Catmull-Clark step turns the edge point of
+/// an interior edge into a regular valence-4 vertex: limit (16 E + 4 (VP_a + VP_b + FP_f + FP_g)
+/// + sum of the 4 diagonal edge points) / 36, normal from the regular bicubic tangents, oriented
+/// like the faces. A boundary edge's midpoint lies on the boundary cubic B-spline:
+/// (VP_a + 4 E + VP_b) / 6 (E the edge midpoint, VP the boundary vertex points); `normal` is then
+/// not written and *hasNormal (if given) is false. `vp` (optional) holds the vertex points of
+/// the face's 4 corners (VertexPoint). Returns false for a dead face or a degenerate normal.
+bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal = nullptr);
 /// Catmull-Clark vertex point (one refinement step) of control vertex v: interior
 /// (Q + 2R + (n-3) v)/n, boundary (v_prev + 6 v + v_next)/8.
 Vec3 VertexPoint(const QuadMesh& m, int v);
