@@ -437,3 +437,44 @@ TEST(CCFit, TangentDistanceBeatsPointToPoint) {
   EXPECT_LT(b.fit.dataRmsPerIteration.back(), b.fit.dataRmsPerIteration.front());
 }
 
+
+// A tile coarser than the limit layer must not make the displaced surface coarser than the
+// limit: with R = 2 (one texel interval per patch) and zero displacement, the displaced surface
+// tessellated at minSegments is the limit surface itself (bilinear filtering of a zero tile).
+TEST(DisplacedSurface, IsNeverCoarserThanTheLimitLayer) {
+  vcgext::QuadData q;
+  const int n = 4;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) q.V.emplace_back(i, j, 0.3 * std::sin(1.3 * i) * std::cos(0.9 * j));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) q.F.push_back({j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i});
+  auto ls = vcgext::LimitSurface::FromQuads(q);
+  ASSERT_TRUE(ls.Ok());
+  vcgext::DisplacementAtlas a;
+  a.R = 2;
+  a.cols = n;
+  a.rows = n;
+  a.width = a.cols * a.R;
+  a.height = a.rows * a.R;
+  a.q16.assign(size_t(a.width) * a.height, 0);
+  a.scale = 1.0;
+  a.offset = 0.0;
+  vcgext::LimitTessellation lim = vcgext::TessellateLimit(ls, q.V, 8);
+  vcgext::LimitTessellation d = vcgext::DisplacedSurface(ls, q.V, a, 8);
+  ASSERT_EQ(d.mesh.V.size(), lim.mesh.V.size());
+  for (size_t v = 0; v < d.mesh.V.size(); ++v) EXPECT_NEAR((d.mesh.V[v] - lim.mesh.V[v]).norm(), 0.0, 1e-12);
+  // A constant displacement c moves every vertex by c along the normal (filtering is exact).
+  a.offset = 0.05;
+  d = vcgext::DisplacedSurface(ls, q.V, a, 8);
+  for (size_t v = 0; v < d.mesh.V.size(); ++v)
+    EXPECT_NEAR((d.mesh.V[v] - lim.mesh.V[v]).norm(), 0.05, 1e-12);
+}
+
+TEST(CCFit, AutoTextureResolutionFollowsThePaperWithAFloor) {
+  // Paper rule: R = round(sqrt(reference vertices / patches)); bunny00 at 322 patches -> 11.
+  EXPECT_EQ(vcgext::AutoTextureResolution(37706, 322), 11);
+  EXPECT_EQ(vcgext::AutoTextureResolution(400000, 100), 63);
+  // Coarse references (elephant.off: 2775 vertices, 413 patches -> 2.6) get the floor.
+  EXPECT_EQ(vcgext::AutoTextureResolution(2775, 413), vcgext::kMinAutoTextureResolution);
+  EXPECT_EQ(vcgext::AutoTextureResolution(10, 0), vcgext::kMinAutoTextureResolution);
+}

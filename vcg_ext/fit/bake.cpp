@@ -118,8 +118,8 @@ std::vector<double> SignedDistanceToReference(const std::vector<Vec3>& pts, cons
 }
 
 int AutoTextureResolution(int referenceVertices, int patches) {
-  if (patches <= 0) return 2;
-  return std::max(2, int(std::lround(std::sqrt(double(referenceVertices) / patches))));
+  if (patches <= 0) return kMinAutoTextureResolution;
+  return std::max(kMinAutoTextureResolution, int(std::lround(std::sqrt(double(referenceVertices) / patches))));
 }
 
 DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
@@ -200,12 +200,19 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   return a;
 }
 
-LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a) {
-  LimitTessellation t = TessellateLimit(ls, ctrl, a.R - 1);
-  const int N = a.R - 1;
+LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a,
+                                   int minSegments) {
+  const int T = a.R - 1;  // texel intervals per tile side
+  LimitTessellation t = TessellateLimit(ls, ctrl, std::max(T, minSegments));
   for (size_t v = 0; v < t.mesh.V.size(); ++v) {
-    int i = int(std::lround(t.uv[v][0] * N)), j = int(std::lround(t.uv[v][1] * N));
-    t.mesh.V[v] += a.Decoded(t.face[v], i, j) * t.normal[v];
+    // Bilinear filtering of the tile (texel (i,j) sits at (u,v) = (i/T, j/T)).
+    const double x = std::clamp(t.uv[v][0], 0.0, 1.0) * T, y = std::clamp(t.uv[v][1], 0.0, 1.0) * T;
+    const int i = std::min(int(x), T - 1), j = std::min(int(y), T - 1);
+    const double fx = x - i, fy = y - j;
+    const int f = t.face[v];
+    const double d = (1 - fx) * (1 - fy) * a.Decoded(f, i, j) + fx * (1 - fy) * a.Decoded(f, i + 1, j) +
+                     (1 - fx) * fy * a.Decoded(f, i, j + 1) + fx * fy * a.Decoded(f, i + 1, j + 1);
+    t.mesh.V[v] += d * t.normal[v];
   }
   return t;
 }
@@ -293,7 +300,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   t = Clock::now();
   const int R = p.textureResolution > 0 ? p.textureResolution : AutoTextureResolution(r.referenceVertices, ls.NumFaces());
   r.atlas = BakeDisplacement(ls, ctrl, ref, scene, R, maxDist, p.normalMap);
-  r.displaced = DisplacedSurface(ls, ctrl, r.atlas);
+  r.displaced = DisplacedSurface(ls, ctrl, r.atlas, p.limitSegments);
   r.displaced.quality = SignedDistanceToReference(r.displaced.mesh.V, scene, std::numeric_limits<double>::infinity());
   r.times.emplace_back("bake", Since(t));
   if (p.computeMetrics) {
