@@ -84,6 +84,34 @@ TEST(VcgBridge, RejectsNonQuadLayersWithCounts) {
   EXPECT_NE(err.find("more than four"), std::string::npos) << err;
 }
 
+TEST(VcgBridge, QuadsSharingOppositeCornersRoundTrip) {
+  // Two quads whose opposite corners are the same two vertices (0 and 2), as a simplified control
+  // mesh can have: splitting both along 0-2 would make 0-2 a non-manifold triangle edge with
+  // two identical directed faux edges, and the pairing on import ambiguous.
+  vcgext::QuadData q;
+  q.V = {vcgext::Vec3(0, 0, 0), vcgext::Vec3(1, -1, 0), vcgext::Vec3(2, 0, 0), vcgext::Vec3(1, 1, 0),
+         vcgext::Vec3(1, -1, 1), vcgext::Vec3(1, 1, 1)};
+  q.F = {{0, 1, 2, 3}, {0, 4, 2, 5}};
+  vcgext::TMesh m;
+  EXPECT_EQ(vcgext::ExportQuads(q, m), 0);
+  vcgext::QuadData back;
+  ASSERT_EQ(vcgext::ImportQuads(m, back), "");
+  std::set<std::vector<int>> a, b;
+  for (auto& f : q.F) a.insert(Canon(f));
+  for (auto& f : back.F) b.insert(Canon(f));
+  EXPECT_EQ(a, b);
+  // The same layer split naively (both along 0-2) is reported, not paired at random.
+  for (int h = 0; h < 2; ++h) {
+    auto& t = m.face[2 + h];
+    const int c[2][3] = {{0, 4, 2}, {0, 2, 5}};
+    for (int k = 0; k < 3; ++k) t.V(k) = &m.vert[c[h][k]];
+    t.ClearAllF();
+    t.SetF(h == 0 ? 2 : 0);
+  }
+  std::string err = vcgext::ImportQuads(m, back);
+  EXPECT_NE(err.find("unambiguously"), std::string::npos) << err;
+}
+
 TEST(VcgBridge, ExportTrianglesWritesQuality) {
   auto d = testsupport::PlaneGrid(3, 3);
   std::vector<double> q(d.V.size());

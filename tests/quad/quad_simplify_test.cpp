@@ -9,6 +9,7 @@
 #include "vcg_ext/quad/cc_limit.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/quad_simplify.h"
+#include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/subdiv/limit_surface.h"
 
 using vcgext::Vec3;
@@ -218,7 +219,7 @@ TEST(QuadSimplify, VcgEntryPointAndPolygonalRoundTrip) {
   auto g = quadtest::CubeSphere(5);
   // quads -> vcg polygonal layer (faux diagonals) -> recognised as quads again
   vcgext::TMesh poly;
-  vcgext::QuadsToPolygonalMesh(g, poly);
+  ASSERT_EQ(vcgext::ExportQuads(g, poly), 0);
   ASSERT_EQ(poly.fn, int(2 * g.F.size()));
   vcgext::TriData data;
   ASSERT_EQ(vcgext::ImportTriangles(poly, data, true).error, "");

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,7 @@ namespace vcgext {
 /// Reads a pure-quad vcg layer (triangle pairs with one faux edge each) into `out`.
 /// Returns an empty string, or what is wrong: empty layer, NaN coordinates, a triangle with no
 /// faux edge (not pure quads: how many), a polygon with more than four sides, a faux edge with
-/// no matching partner. Deleted elements are skipped; unreferenced vertices are kept.
+/// no matching partner, a faux edge used twice in the same direction (ambiguous pairing). Deleted elements are skipped; unreferenced vertices are kept.
 template <class MeshType>
 std::string ImportQuads(const MeshType& m, QuadData& out) {
   out.V.clear();
@@ -39,7 +40,7 @@ std::string ImportQuads(const MeshType& m, QuadData& out) {
   std::map<std::pair<int, int>, int> fauxOf;
   std::vector<std::array<int, 3>> tris;
   std::vector<int> fauxSlot;
-  int triangles = 0, polygons = 0;
+  int triangles = 0, polygons = 0, ambiguous = 0;
   for (const auto& f : m.face) {
     if (f.IsD()) continue;
     std::array<int, 3> t;
@@ -49,7 +50,7 @@ std::string ImportQuads(const MeshType& m, QuadData& out) {
       if (f.IsF(k)) { ++nf; slot = k; }
     if (nf == 0) { ++triangles; continue; }
     if (nf > 1) { ++polygons; continue; }
-    fauxOf[{t[slot], t[(slot + 1) % 3]}] = int(tris.size());
+    if (!fauxOf.emplace(std::make_pair(t[slot], t[(slot + 1) % 3]), int(tris.size())).second) ++ambiguous;
     tris.push_back(t);
     fauxSlot.push_back(slot);
   }
@@ -60,6 +61,9 @@ std::string ImportQuads(const MeshType& m, QuadData& out) {
   if (polygons > 0)
     return "the control layer is not pure-quad: " + std::to_string(polygons) +
            " faces belong to polygons with more than four sides";
+  if (ambiguous > 0)
+    return "the control layer's quads cannot be paired unambiguously: " + std::to_string(ambiguous) +
+           " faux diagonals are shared by several triangles (non-manifold triangulation)";
   std::vector<char> done(tris.size(), 0);
   int unmatched = 0;
   for (size_t i = 0; i < tris.size(); ++i) {
@@ -100,17 +104,33 @@ void ExportTriangles(const TriData& d, MeshType& m, const std::vector<double>* q
 /// (a,b,c,d) becomes triangles (a,b,c) and (a,c,d) with the diagonal a–c faux. If `wedgeUV` is
 /// given (one (u,v) per quad corner), it is written to the wedge texture coordinates with
 /// texture index 0 (`MeshType` must have wedge texcoords enabled then).
+/// Two quads may share both ends of a diagonal (opposite corners a and c in both) or a diagonal
+/// may join two vertices that also share a mesh edge: splitting along a–c there would give a
+/// non-manifold triangle edge and an ambiguous pairing on import, so such a quad is split along
+/// b–d instead (the pairing of ImportQuads is then unique). Returns the number of quads where
+/// neither diagonal was free (0 on every mesh we produce; such a layer cannot be re-imported).
 template <class MeshType>
-void ExportQuads(const QuadData& q, MeshType& m,
-                 const std::vector<std::array<Eigen::Vector2d, 4>>* wedgeUV = nullptr) {
+int ExportQuads(const QuadData& q, MeshType& m,
+                const std::vector<std::array<Eigen::Vector2d, 4>>* wedgeUV = nullptr) {
   m.Clear();
   auto vi = vcg::tri::Allocator<MeshType>::AddVertices(m, q.V.size());
   for (size_t i = 0; i < q.V.size(); ++i, ++vi)
     for (int k = 0; k < 3; ++k) vi->P()[k] = typename MeshType::ScalarType(q.V[i][k]);
+  auto key = [](int a, int b) { return a < b ? std::make_pair(a, b) : std::make_pair(b, a); };
+  std::set<std::pair<int, int>> used;  // undirected mesh edges and chosen diagonals
+  for (const auto& f : q.F)
+    for (int k = 0; k < 4; ++k) used.insert(key(f[k], f[(k + 1) % 4]));
+  int blocked = 0;
   auto fi = vcg::tri::Allocator<MeshType>::AddFaces(m, 2 * q.F.size());
   for (size_t i = 0; i < q.F.size(); ++i) {
     const auto& f = q.F[i];
-    const int corners[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    int s = 0;  // first corner of the diagonal: 0 (a–c) or 1 (b–d)
+    if (used.count(key(f[0], f[2]))) {
+      if (!used.count(key(f[1], f[3]))) s = 1;
+      else ++blocked;
+    }
+    used.insert(key(f[s], f[s + 2]));
+    const int corners[2][3] = {{s, s + 1, s + 2}, {s, s + 2, (s + 3) % 4}};
     for (int h = 0; h < 2; ++h, ++fi) {
       for (int k = 0; k < 3; ++k) {
         fi->V(k) = &m.vert[f[corners[h][k]]];
@@ -122,9 +142,10 @@ void ExportQuads(const QuadData& q, MeshType& m,
         }
       }
       fi->ClearAllF();
-      fi->SetF(h == 0 ? 2 : 0);  // the a–c diagonal: edge 2 (c→a) of the first, 0 (a→c) of the second
+      fi->SetF(h == 0 ? 2 : 0);  // the diagonal: edge 2 (c→a) of the first, 0 (a→c) of the second
     }
   }
+  return blocked;
 }
 
 }  // namespace vcgext

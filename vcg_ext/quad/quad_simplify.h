@@ -45,6 +45,14 @@ struct QuadSimplifyParams {
   int localSolveIterations = 30;  ///< max Gauss-Seidel sweeps of the local solve
   double projectionPercent = 10.0;  ///< max ray length of the projection phi, % of the bbox diagonal
   double boundaryCornerAngleDeg = 45;  ///< remove one-face boundary vertices where the boundary turns less than this (0 = never)
+  /// Geometric guard (beyond the paper, keeps thin parts): after the local fit of a step, the
+  /// limit surface of every patch touching the moved vertices is sampled at its centre and its
+  /// edge midpoints; each sample must project (along its limit normal) onto the input with an
+  /// agreeing normal within deviationFactor * F_M(hit) (F_M interpolated at the hit), else the
+  /// step is undone. 0 = off (the paper's behaviour).
+  double deviationFactor = 0.25;
+  /// optional absolute cap of that tolerance, % of the bbox diagonal (0 = no cap)
+  double maxDeviationPercent = 0.0;
   bool finalReinterpolation = true;  ///< one global solve at the end: all limit vertices back onto the input
   bool validateEveryOperation = false;  ///< test mode: full validity check after every step (O(F) each)
   quad::TriToQuadParams triToQuad;
@@ -66,6 +74,7 @@ struct QuadSimplifyResult {
   int rejectedByM = 0;            ///< collapses refused by the M-fitmap test
   int rejectedTopology = 0;       ///< refused by the operators (link condition, boundary, valence)
   int rejectedFlip = 0;           ///< undone because a patch flipped against the input / left it
+  int rejectedDeviation = 0;      ///< undone by the geometric guard (limit samples too far from the input)
   int flippedPatches = 0;         ///< final patches whose centre normal disagrees with the input (or miss it)
   int flippedVertices = 0;        ///< final interior vertices whose limit normal disagrees likewise
   int initialFlippedPatches = 0;  ///< the same counts on the initial interpolating mesh (noisy scans)
@@ -95,12 +104,6 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
 /// (and leaves `quads` empty) if the faux edges do not pair every live triangle into a quad.
 template <class MeshType>
 bool PolygonalQuads(const MeshType& m, const TriData& data, std::vector<Quad>& quads);
-
-/// Writes a quad mesh into a vcg triangle mesh as MeshLab polygons: two triangles per quad, the
-/// diagonal (corner 2 -> corner 0) flagged faux in both. `out` is cleared first. The caller
-/// updates normals/topology/bbox as its framework requires.
-template <class MeshType>
-void QuadsToPolygonalMesh(const QuadData& q, MeshType& out);
 
 /// vcg entry point: reads the per-vertex float attributes `sAttr` / `mAttr` (as written by
 /// vcgext::ComputeFitmaps: "FitmapS", "FitmapM"; this library does not compute them), builds the
@@ -147,25 +150,6 @@ bool PolygonalQuads(const MeshType& m, const TriData& data, std::vector<Quad>& q
     used[t] = used[u] = 1;
   }
   return true;
-}
-
-template <class MeshType>
-void QuadsToPolygonalMesh(const QuadData& q, MeshType& out) {
-  out.Clear();
-  auto vi = vcg::tri::Allocator<MeshType>::AddVertices(out, q.V.size());
-  for (size_t i = 0; i < q.V.size(); ++i, ++vi)
-    vi->P() = typename MeshType::CoordType(typename MeshType::ScalarType(q.V[i][0]),
-                                           typename MeshType::ScalarType(q.V[i][1]),
-                                           typename MeshType::ScalarType(q.V[i][2]));
-  auto fi = vcg::tri::Allocator<MeshType>::AddFaces(out, q.F.size() * 2);
-  for (const Quad& f : q.F) {
-    fi->V(0) = &out.vert[f[0]]; fi->V(1) = &out.vert[f[1]]; fi->V(2) = &out.vert[f[2]];
-    fi->ClearF(0); fi->ClearF(1); fi->SetF(2);
-    ++fi;
-    fi->V(0) = &out.vert[f[0]]; fi->V(1) = &out.vert[f[2]]; fi->V(2) = &out.vert[f[3]];
-    fi->SetF(0); fi->ClearF(1); fi->ClearF(2);
-    ++fi;
-  }
 }
 
 template <class MeshType>
