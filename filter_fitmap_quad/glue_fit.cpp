@@ -49,8 +49,12 @@ bool ApplyFit(GlueContext& ctx) {
     return ctx.Fail("the reference layer must be another layer than the control mesh (the current layer)");
 
   vcgext::QuadData quads;
-  std::string err = vcgext::ImportQuads(control.cm, quads);
+  int ambiguous = 0;
+  std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
   if (!err.empty()) return ctx.Fail(err);
+  if (ambiguous > 0)
+    ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
+            " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
   // Foreign quad meshes (e.g. MeshLab's triangle pairing) may contain doublets (interior
   // valence-2 vertices): merge them, as the simplification does (§3.3.3).
   if (int nd = vcgext::RemoveDoublets(quads))

@@ -7,7 +7,9 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <algorithm>
 #include <map>
+#include <set>
 #include <random>
 #include <sstream>
 
@@ -15,6 +17,8 @@
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/fit/fit_io.h"
+#include "vcg_ext/core/vcg_bridge.h"
+#include "vcg_ext/io/mesh_io.h"
 
 using namespace vcgext;
 
@@ -477,4 +481,46 @@ TEST(CCFit, AutoTextureResolutionFollowsThePaperWithAFloor) {
   // Coarse references (elephant.off: 2775 vertices, 413 patches -> 2.6) get the floor.
   EXPECT_EQ(vcgext::AutoTextureResolution(2775, 413), vcgext::kMinAutoTextureResolution);
   EXPECT_EQ(vcgext::AutoTextureResolution(10, 0), vcgext::kMinAutoTextureResolution);
+}
+
+// control.ply is what users open in MeshLab, whose PLY importer fans every polygon from its first
+// corner. Two quads with the same opposite corners (0 and 2) must not both be fanned along 0-2.
+TEST(FitIo, QuadPlyReimportsAsTheSameQuads) {
+  vcgext::QuadData q;
+  q.V = {Vec3(0, 0, 0), Vec3(1, -1, 0), Vec3(2, 0, 0), Vec3(1, 1, 0), Vec3(1, -1, 1), Vec3(1, 1, 1)};
+  q.F = {{0, 1, 2, 3}, {0, 4, 2, 5}};
+  const std::string path = testsupport::ScratchDir() + "/quadply.ply";
+  ASSERT_EQ(vcgext::WriteQuadPly(path, q), "");
+  vcgext::TMesh m;
+  ASSERT_EQ(vcgext::LoadMesh(path, m), "");  // vcglib's PLY importer, as MeshLab's
+  vcgext::QuadData back;
+  int resolved = -1;
+  ASSERT_EQ(vcgext::ImportQuads(m, back, &resolved), "");
+  EXPECT_EQ(resolved, 0);  // the fan diagonals are all distinct: no ambiguity to resolve
+  auto canon = [](vcgext::Quad f) {
+    std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    return f;
+  };
+  std::set<vcgext::Quad> a, b;
+  for (auto f : q.F) a.insert(canon(f));
+  for (auto f : back.F) b.insert(canon(f));
+  EXPECT_EQ(a, b);
+}
+
+// Same input, same output: the normal equations are assembled in a fixed order whatever the
+// thread scheduling (atomic scatter used to make repeated runs on elephant.off differ by 10%).
+TEST(CCFit, RepeatedFitsAreIdentical) {
+  TriData ref = BumpySphere(5, 0.02);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(3, 0.05, 2);
+  FitParams fp;
+  fp.maxIterations = 4;
+  FitResult a = FitCatmullClark(q, ref, scene, fp);
+  ASSERT_TRUE(a.error.empty()) << a.error;
+  for (int run = 0; run < 3; ++run) {
+    FitResult b = FitCatmullClark(q, ref, scene, fp);
+    ASSERT_EQ(a.control.V.size(), b.control.V.size());
+    for (size_t v = 0; v < a.control.V.size(); ++v) ASSERT_EQ(a.control.V[v], b.control.V[v]) << "vertex " << v;
+    ASSERT_EQ(a.rmsPerIteration, b.rmsPerIteration);
+  }
 }

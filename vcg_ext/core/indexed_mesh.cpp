@@ -3,8 +3,28 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <limits>
+#include <set>
 
 namespace vcgext {
+
+std::vector<int> FreeDiagonalStarts(const QuadData& q, int* blocked) {
+  auto key = [](int a, int b) { return a < b ? std::make_pair(a, b) : std::make_pair(b, a); };
+  std::set<std::pair<int, int>> used;  // undirected mesh edges and chosen diagonals
+  for (const auto& f : q.F)
+    for (int k = 0; k < 4; ++k) used.insert(key(f[k], f[(k + 1) % 4]));
+  std::vector<int> start(q.F.size(), 0);
+  int nb = 0;
+  for (size_t i = 0; i < q.F.size(); ++i) {
+    const auto& f = q.F[i];
+    if (used.count(key(f[0], f[2]))) {
+      if (!used.count(key(f[1], f[3]))) start[i] = 1;
+      else ++nb;
+    }
+    used.insert(key(f[start[i]], f[start[i] + 2]));
+  }
+  if (blocked) *blocked = nb;
+  return start;
+}
 
 double BBoxDiagonal(const std::vector<Vec3>& V) {
   if (V.empty()) return 0.0;

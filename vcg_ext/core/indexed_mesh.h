@@ -28,6 +28,13 @@ struct QuadData {
   std::vector<Quad> F;
 };
 
+/// For each quad, the corner s (0 or 1) that starts a "free" diagonal s–(s+2): one that is not a
+/// mesh edge and not the diagonal chosen for an earlier quad. Splitting every quad along its free
+/// diagonal gives a manifold triangulation whose faux-edge pairing is unique (two quads may have
+/// the same two opposite corners; splitting both along them would not). `blocked` (optional)
+/// counts quads where neither diagonal is free (s = 0 then).
+std::vector<int> FreeDiagonalStarts(const QuadData& q, int* blocked = nullptr);
+
 /// Axis-aligned bounding box diagonal of a point set (0 for an empty set).
 double BBoxDiagonal(const std::vector<Vec3>& V);
 /// Mean length of the mesh's edges, each undirected edge counted once.

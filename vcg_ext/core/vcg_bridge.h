@@ -5,8 +5,10 @@
 /// layer is read by pairing triangles across their faux edge, and written the same way.
 #include <Eigen/Core>
 #include <array>
+#include <algorithm>
+#include <functional>
 #include <map>
-#include <set>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -19,9 +21,14 @@ namespace vcgext {
 /// Reads a pure-quad vcg layer (triangle pairs with one faux edge each) into `out`.
 /// Returns an empty string, or what is wrong: empty layer, NaN coordinates, a triangle with no
 /// faux edge (not pure quads: how many), a polygon with more than four sides, a faux edge with
-/// no matching partner, a faux edge used twice in the same direction (ambiguous pairing). Deleted elements are skipped; unreferenced vertices are kept.
+/// no matching partner. Deleted elements are skipped; unreferenced vertices are kept.
+/// A faux diagonal shared by several triangle pairs (two quads with the same opposite corners,
+/// split along them by a tool that fans polygons, e.g. MeshLab's PLY importer) is ambiguous:
+/// those triangles are paired greedily by the agreement of their normals (a true quad's two
+/// halves are nearly coplanar); `ambiguousResolved` (optional) counts such diagonals.
 template <class MeshType>
-std::string ImportQuads(const MeshType& m, QuadData& out) {
+std::string ImportQuads(const MeshType& m, QuadData& out, int* ambiguousResolved = nullptr) {
+  if (ambiguousResolved) *ambiguousResolved = 0;
   out.V.clear();
   out.F.clear();
   std::vector<int> remap(m.vert.size(), -1);
@@ -37,10 +44,10 @@ std::string ImportQuads(const MeshType& m, QuadData& out) {
   if (out.V.empty()) return "the control layer is empty";
   if (nonFinite) return std::to_string(nonFinite) + " control vertices have NaN or infinite coordinates";
   // Faux edges keyed by their directed (from, to) pair; the partner has (to, from).
-  std::map<std::pair<int, int>, int> fauxOf;
+  std::map<std::pair<int, int>, std::vector<int>> fauxOf;
   std::vector<std::array<int, 3>> tris;
   std::vector<int> fauxSlot;
-  int triangles = 0, polygons = 0, ambiguous = 0;
+  int triangles = 0, polygons = 0;
   for (const auto& f : m.face) {
     if (f.IsD()) continue;
     std::array<int, 3> t;
@@ -50,7 +57,7 @@ std::string ImportQuads(const MeshType& m, QuadData& out) {
       if (f.IsF(k)) { ++nf; slot = k; }
     if (nf == 0) { ++triangles; continue; }
     if (nf > 1) { ++polygons; continue; }
-    if (!fauxOf.emplace(std::make_pair(t[slot], t[(slot + 1) % 3]), int(tris.size())).second) ++ambiguous;
+    fauxOf[{t[slot], t[(slot + 1) % 3]}].push_back(int(tris.size()));
     tris.push_back(t);
     fauxSlot.push_back(slot);
   }
@@ -61,23 +68,83 @@ std::string ImportQuads(const MeshType& m, QuadData& out) {
   if (polygons > 0)
     return "the control layer is not pure-quad: " + std::to_string(polygons) +
            " faces belong to polygons with more than four sides";
-  if (ambiguous > 0)
-    return "the control layer's quads cannot be paired unambiguously: " + std::to_string(ambiguous) +
-           " faux diagonals are shared by several triangles (non-manifold triangulation)";
+  auto normal = [&](int i) {
+    const auto& t = tris[i];
+    Vec3 n = (out.V[t[1]] - out.V[t[0]]).cross(out.V[t[2]] - out.V[t[0]]);
+    double l = n.norm();
+    return l > 0 ? Vec3(n / l) : Vec3::Zero();
+  };
   std::vector<char> done(tris.size(), 0);
   int unmatched = 0;
-  for (size_t i = 0; i < tris.size(); ++i) {
-    if (done[i]) continue;
-    const auto& t = tris[i];
-    int k = fauxSlot[i];
-    int a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
-    auto it = fauxOf.find({b, a});
-    if (it == fauxOf.end() || done[it->second] || size_t(it->second) == i) { ++unmatched; continue; }
-    const auto& t2 = tris[it->second];
-    int k2 = fauxSlot[it->second];
-    int d = t2[(k2 + 2) % 3];
-    done[i] = done[it->second] = 1;
-    out.F.push_back({a, d, b, c});  // boundary a→d→b→c (the diagonal a–b removed)
+  std::vector<std::pair<int, int>> twoByTwo;  // ambiguous diagonals shared by exactly two quads
+  for (const auto& [key, side] : fauxOf) {
+    if (key.first > key.second) continue;  // each diagonal once, from its (low, high) side
+    auto it = fauxOf.find({key.second, key.first});
+    const size_t n2 = it == fauxOf.end() ? 0 : it->second.size();
+    if (n2 == 0) continue;
+    const std::vector<int>& other = it->second;
+    if (side.size() > 1 || n2 > 1)
+      if (ambiguousResolved) ++*ambiguousResolved;
+    // greedy matching by normal agreement (trivial for the usual 1:1 case)
+    std::vector<std::tuple<double, int, int>> cand;
+    for (int i : side)
+      for (int j : other) cand.emplace_back(-normal(i).dot(normal(j)), i, j);
+    std::sort(cand.begin(), cand.end());
+    if (side.size() == 2 && n2 == 2) twoByTwo.emplace_back(int(out.F.size()), int(out.F.size()) + 1);
+    for (const auto& [score, i, j] : cand) {
+      if (done[i] || done[j]) continue;
+      done[i] = done[j] = 1;
+      const auto& t = tris[i];
+      const int k = fauxSlot[i];
+      const int a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+      const int d = tris[j][(fauxSlot[j] + 2) % 3];
+      out.F.push_back({a, d, b, c});  // boundary a→d→b→c (the diagonal a–b removed)
+    }
+  }
+  for (size_t i = 0; i < tris.size(); ++i) unmatched += !done[i];
+  // Normals can mislead (folded regions); the pairing that is wrong splits the quad fan of a
+  // diagonal end into two (a non-manifold vertex). For diagonals shared by two quads, keep the
+  // pairing with fewer fans at the diagonal's ends (two passes: groups can share vertices).
+  if (!twoByTwo.empty()) {
+    std::map<int, std::vector<int>> quadsAt;
+    for (const auto& [q1, q2] : twoByTwo)
+      for (int q : {q1, q2})
+        for (int c = 0; c < 4; ++c) quadsAt[out.F[q][c]];
+    for (size_t f = 0; f < out.F.size(); ++f)
+      for (int c = 0; c < 4; ++c) {
+        auto it = quadsAt.find(out.F[f][c]);
+        if (it != quadsAt.end()) it->second.push_back(int(f));
+      }
+    auto fans = [&](int v) {  // components of the corner graph (prev–next neighbour) at v
+      std::map<int, int> parent;
+      std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+      for (int f : quadsAt[v])
+        for (int c = 0; c < 4; ++c)
+          if (out.F[f][c] == v) {
+            int p = out.F[f][(c + 3) % 4], n = out.F[f][(c + 1) % 4];
+            if (!parent.count(p)) parent[p] = p;
+            if (!parent.count(n)) parent[n] = n;
+            parent[find(p)] = find(n);
+          }
+      int k = 0;
+      for (const auto& [x, px] : parent) k += find(x) == x;
+      return k;
+    };
+    auto swapD = [&](int q1, int q2) {  // exchange the d corners, keeping quadsAt current
+      const int d1 = out.F[q1][1], d2 = out.F[q2][1];
+      auto& l1 = quadsAt[d1];
+      auto& l2 = quadsAt[d2];
+      for (int& f : l1) if (f == q1) f = q2;
+      for (int& f : l2) if (f == q2) f = q1;
+      std::swap(out.F[q1][1], out.F[q2][1]);
+    };
+    for (int pass = 0; pass < 2; ++pass)
+      for (const auto& [q1, q2] : twoByTwo) {
+        const int a = out.F[q1][0], b = out.F[q1][2];
+        const int before = fans(a) + fans(b);
+        swapD(q1, q2);
+        if (fans(a) + fans(b) >= before) swapD(q1, q2);
+      }
   }
   if (unmatched > 0)
     return "the control layer is not pure-quad: " + std::to_string(unmatched) +
@@ -104,11 +171,9 @@ void ExportTriangles(const TriData& d, MeshType& m, const std::vector<double>* q
 /// (a,b,c,d) becomes triangles (a,b,c) and (a,c,d) with the diagonal a–c faux. If `wedgeUV` is
 /// given (one (u,v) per quad corner), it is written to the wedge texture coordinates with
 /// texture index 0 (`MeshType` must have wedge texcoords enabled then).
-/// Two quads may share both ends of a diagonal (opposite corners a and c in both) or a diagonal
-/// may join two vertices that also share a mesh edge: splitting along a–c there would give a
-/// non-manifold triangle edge and an ambiguous pairing on import, so such a quad is split along
-/// b–d instead (the pairing of ImportQuads is then unique). Returns the number of quads where
-/// neither diagonal was free (0 on every mesh we produce; such a layer cannot be re-imported).
+/// Where a–c is not free (FreeDiagonalStarts: another quad's diagonal or a mesh edge, which
+/// would give a non-manifold triangle edge and an ambiguous pairing) the quad is split along b–d.
+/// Returns the number of quads where neither diagonal was free.
 template <class MeshType>
 int ExportQuads(const QuadData& q, MeshType& m,
                 const std::vector<std::array<Eigen::Vector2d, 4>>* wedgeUV = nullptr) {
@@ -116,20 +181,12 @@ int ExportQuads(const QuadData& q, MeshType& m,
   auto vi = vcg::tri::Allocator<MeshType>::AddVertices(m, q.V.size());
   for (size_t i = 0; i < q.V.size(); ++i, ++vi)
     for (int k = 0; k < 3; ++k) vi->P()[k] = typename MeshType::ScalarType(q.V[i][k]);
-  auto key = [](int a, int b) { return a < b ? std::make_pair(a, b) : std::make_pair(b, a); };
-  std::set<std::pair<int, int>> used;  // undirected mesh edges and chosen diagonals
-  for (const auto& f : q.F)
-    for (int k = 0; k < 4; ++k) used.insert(key(f[k], f[(k + 1) % 4]));
   int blocked = 0;
+  const std::vector<int> start = FreeDiagonalStarts(q, &blocked);
   auto fi = vcg::tri::Allocator<MeshType>::AddFaces(m, 2 * q.F.size());
   for (size_t i = 0; i < q.F.size(); ++i) {
     const auto& f = q.F[i];
-    int s = 0;  // first corner of the diagonal: 0 (a–c) or 1 (b–d)
-    if (used.count(key(f[0], f[2]))) {
-      if (!used.count(key(f[1], f[3]))) s = 1;
-      else ++blocked;
-    }
-    used.insert(key(f[s], f[s + 2]));
+    const int s = start[i];  // the diagonal s–(s+2) is faux
     const int corners[2][3] = {{s, s + 1, s + 2}, {s, s + 2, (s + 3) % 4}};
     for (int h = 0; h < 2; ++h, ++fi) {
       for (int k = 0; k < 3; ++k) {

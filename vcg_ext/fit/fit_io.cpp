@@ -190,7 +190,14 @@ std::string WritePlyWithQuality(const std::string& path, const TriData& m, const
   return WritePly(path, m.V, m.F, quality);
 }
 
-std::string WriteQuadPly(const std::string& path, const QuadData& q) { return WritePly(path, q.V, q.F, nullptr); }
+std::string WriteQuadPly(const std::string& path, const QuadData& q) {
+  // MeshLab fans a polygon from its first corner: start each quad at its free diagonal.
+  const std::vector<int> start = FreeDiagonalStarts(q);
+  std::vector<Quad> F(q.F.size());
+  for (size_t i = 0; i < F.size(); ++i)
+    for (int c = 0; c < 4; ++c) F[i][c] = q.F[i][(c + start[i]) % 4];
+  return WritePly(path, q.V, F, nullptr);
+}
 
 std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::string, double>>& extraTimes) {
   std::ostringstream o;

@@ -35,6 +35,8 @@ std::string WriteQuadObj(const std::string& path, const QuadData& q,
 /// Binary little-endian PLY with real quad faces: MeshLab opens it as a quad layer (faux-edge
 /// triangle pairs). Debian's MeshLab 2020.09 aborts on every OBJ file (an assertion in vcglib's
 /// OBJ importer), so this is the control-mesh format to open in MeshLab; the OBJ is for others.
+/// MeshLab splits a polygon along corner 0–2, so each quad is written starting at its free
+/// diagonal (FreeDiagonalStarts): the layer MeshLab builds is manifold and pairs back uniquely.
 std::string WriteQuadPly(const std::string& path, const QuadData& q);
 
 /// Binary little-endian PLY of a triangle mesh with optional per-vertex `quality` (float).
