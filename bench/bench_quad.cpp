@@ -8,6 +8,9 @@
 //   --tau: tau values in percent (default 1,10); Fitmaps from vcgext::ComputeFitmaps (Fast mode).
 //   --no-fit: skip the §3.5 global fit (vcgext::FitCatmullClark) before the second projectability figure.
 //   --target N: stop at N patches; --no-m: no M-fitmap test (with --target: a fixed budget).
+//   --mscale X: multiply the M-fitmap by X (emulates a coarser M-fitmap scale, e.g. earlier Fitmaps).
+//   --dev F: QuadSimplifyParams::deviationFactor (geometric guard, fraction of F_M; 0 = off);
+//   --devcap PCT: QuadSimplifyParams::maxDeviationPercent.
 //   --ray PCT: max projection ray length, % of the bbox diagonal (default 5).
 //   --standin: crude curvature-based stand-ins for S and M instead of ComputeFitmaps.
 //   --obj PREFIX: writes PREFIX_tau<PCT>.obj (control mesh, real quads) of the last run.
@@ -138,6 +141,7 @@ int main(int argc, char** argv) {
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
   int runs = 3, threads = 2, target = 0;
   bool standin = false, finalFit = true, useM = true;
+  double mscale = 1.0, dev = -1, devcap = -1;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
   for (int i = 1; i < argc; ++i) {
@@ -148,6 +152,9 @@ int main(int argc, char** argv) {
     else if (a == "--standin") standin = true;
     else if (a == "--no-fit") finalFit = false;
     else if (a == "--no-m") useM = false;
+    else if (a == "--dev" && i + 1 < argc) dev = std::atof(argv[++i]);
+    else if (a == "--devcap" && i + 1 < argc) devcap = std::atof(argv[++i]);
+    else if (a == "--mscale" && i + 1 < argc) mscale = std::atof(argv[++i]);
     else if (a == "--ray" && i + 1 < argc) rayPct = std::atof(argv[++i]);
     else if (a == "--obj" && i + 1 < argc) objPrefix = argv[++i];
     else if (a == "--dump-unreached" && i + 1 < argc) dumpUnreached = argv[++i];
@@ -189,6 +196,7 @@ int main(int argc, char** argv) {
       S = fr.S;
       M = fr.M;
     }
+    for (double& x : M) x *= mscale;
     {
       std::vector<double> m(M);
       std::sort(m.begin(), m.end());
@@ -199,6 +207,8 @@ int main(int argc, char** argv) {
     vcgext::QuadSimplifyParams p;
     p.targetPatches = target;
     p.useMFitmap = useM;
+    if (dev >= 0) p.deviationFactor = dev;
+    if (devcap >= 0) p.maxDeviationPercent = devcap;
     std::vector<double> tq, tinit, tsimp, ttot, tcpu;
     vcgext::QuadSimplifyResult r;
     for (int run = 0; run < runs; ++run) {
@@ -229,8 +239,8 @@ int main(int argc, char** argv) {
       if (r.valenceHistogram[v]) std::printf(" %zu:%d", v, r.valenceHistogram[v]);
     std::printf("\n  operations       %d collapses, %d swaps, %d doublets, %d boundary corners\n", r.collapses, r.swaps,
                 r.doublets, r.boundaryCorners);
-    std::printf("  refused          %d by M-fitmap, %d topology, %d flip\n", r.rejectedByM, r.rejectedTopology,
-                r.rejectedFlip);
+    std::printf("  refused          %d by M-fitmap, %d topology, %d flip, %d geometric guard\n", r.rejectedByM,
+                r.rejectedTopology, r.rejectedFlip, r.rejectedDeviation);
     std::printf("  flipped          %d patches, %d vertices\n", r.flippedPatches, r.flippedVertices);
     std::printf("  projectable      %.2f%% of the input area (control mesh as simplified, limit interpolates)\n", proj);
     if (finalFit)

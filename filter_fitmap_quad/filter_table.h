@@ -35,6 +35,7 @@ inline const char* kMode = "mode";                    ///< enum: 0 = fast, 1 = r
 inline const char* kTargetPatches = "targetPatches";      ///< int, 0 = until no feasible collapse
 inline const char* kUseMFitmap = "useMFitmap";            ///< bool
 inline const char* kEdgeSwaps = "edgeSwaps";              ///< bool
+inline const char* kGuard = "thinPartGuard";              ///< float, fraction of F_M (0 = off)
 inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)
 // Fit Catmull-Clark Surface and Bake Displacement
 inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)

@@ -27,6 +27,11 @@ void InitQuadParams(MeshDocument& /*md*/, RichParameterList& par) {
                         "(projectability). Off: only the S-fitmap cost; needs a target count."));
   par.addParam(RichBool(param::kEdgeSwaps, d.edgeSwaps, "Edge swaps",
                         "Valence-improving edge swaps after each collapse (fewer irregular vertices)."));
+  par.addParam(RichFloat(param::kGuard, float(d.deviationFactor), "Thin-part guard (x F_M, 0 = off)",
+                         "Beyond the paper: a collapse is undone when the new limit surface (patch "
+                         "centres and edge midpoints) ends farther from the input than this fraction "
+                         "of the M-fitmap. Keeps thin parts (legs, ears) apart; 0 = the paper's "
+                         "behaviour (fewer patches, faster, may merge thin parts)."));
   par.addParam(RichBool(param::kValidate, d.validateEveryOperation, "Validate every operation (slow)",
                         "Test mode: full mesh validity check after every local operation."));
 }
@@ -40,6 +45,8 @@ bool ApplyQuad(GlueContext& ctx) {
   p.useMFitmap = ctx.par.getBool(param::kUseMFitmap);
   p.edgeSwaps = ctx.par.getBool(param::kEdgeSwaps);
   p.validateEveryOperation = ctx.par.getBool(param::kValidate);
+  p.deviationFactor = ctx.par.getFloat(param::kGuard);
+  if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
   if (!(tau >= 0 && tau <= 100)) return ctx.Fail("tau must be in [0, 100] percent");
   if (p.targetPatches < 0) return ctx.Fail("target patches must be >= 0");
   if (!p.useMFitmap && p.targetPatches == 0)
@@ -108,7 +115,7 @@ bool ApplyQuad(GlueContext& ctx) {
     if (r.valenceHistogram[v]) log << " " << v << ":" << r.valenceHistogram[v];
   log << "; " << r.collapses << " collapses, " << r.swaps << " swaps, " << r.doublets << " doublets, "
       << r.boundaryCorners << " boundary corners; refused: " << r.rejectedByM << " by the M-fitmap, "
-      << r.rejectedTopology << " by topology, " << r.rejectedFlip << " by flips; final flipped patches "
+      << r.rejectedTopology << " by topology, " << r.rejectedFlip << " by flips, " << r.rejectedDeviation << " by the thin-part guard; final flipped patches "
       << r.flippedPatches << "; time: tri-to-quad " << r.secondsTriToQuad << " s, initial fit "
       << r.secondsInitialFit << " s, simplification " << r.secondsSimplify << " s, total "
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s";

@@ -87,6 +87,7 @@ struct FaceInfo {
   double S = 0, M = 0;
   bool ok = false;  ///< centre projects onto the input with an agreeing normal
   int hit = -1;     ///< input triangle hit by the projection (-1: none)
+  double dist = 0;  ///< |phi(c) - c| (valid when hit >= 0)
 };
 
 class Simplifier {
@@ -145,6 +146,7 @@ class Simplifier {
       fi->M = w0 * M_[t[0]] + h.u * M_[t[1]] + h.v * M_[t[2]];
       fi->ok = FN_[h.face].dot(n) > 0;
       fi->hit = h.face;
+      fi->dist = std::abs(h.t);
     }
     if (point) *point = h.point;
     return true;
@@ -166,6 +168,45 @@ class Simplifier {
       fi.ok = false;
     }
     return fi;
+  }
+
+  double MAt(int face, double u, double v) const {
+    const Tri& t = in_.F[face];
+    return (1.0 - u - v) * M_[t[0]] + u * M_[t[1]] + v * M_[t[2]];
+  }
+  // tolerance of the geometric guard at an input hit
+  double DevTol(double m) const {
+    double t = p_.deviationFactor * m;
+    return p_.maxDeviationPercent > 0 ? std::min(t, p_.maxDeviationPercent / 100.0 * diag_) : t;
+  }
+  // geometric guard on one limit sample: projects along its normal onto the input, agreeing
+  // normals, within DevTol; boundary samples (no normal): closest point within DevTol
+  bool SampleOk(const Vec3& pos, const Vec3* n) const {
+    if (!n) {
+      EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
+      return h.valid && (h.point - pos).norm() <= DevTol(MAt(h.face, h.u, h.v));
+    }
+    EmbreeScene::Hit h = LineHit(pos, *n);
+    return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(MAt(h.face, h.u, h.v));
+  }
+  // geometric guard on face g (its corners' vertex points vp): centre (info) and edge midpoints
+  // (each edge once: skipped when the neighbour also touches W and has the smaller index)
+  bool FaceDeviationOk(int g, const Vec3 vp[4], const FaceInfo& fi) const {
+    if (fi.hit < 0 || !fi.ok || fi.dist > DevTol(fi.M)) return false;
+    for (int k = 0; k < 4; ++k) {
+      int h = K.AcrossEdge(g, k);
+      if (h >= 0 && h < g && faceTouchesW(h)) continue;
+      Vec3 pos, n;
+      bool hasN = false;
+      if (!quad::EdgeMidLimit(K, g, k, vp, &pos, &n, &hasN)) return false;
+      if (!SampleOk(pos, hasN ? &n : nullptr)) return false;
+    }
+    return true;
+  }
+  bool faceTouchesW(int g) const {
+    for (int x : K.F[g])
+      if (wmarkOf_[x] == wmark_) return true;
+    return false;
   }
 
   // interior vertex: its limit normal agrees with the input normal where it projects
@@ -317,7 +358,7 @@ class Simplifier {
   }
 
   // One simplification step: collapse + doublets + swaps + local fit, or nothing.
-  // Returns 0 = done, 1 = topology refusal, 2 = flip refusal.
+  // Returns 0 = done, 1 = topology refusal, 2 = flip refusal, 3 = geometric guard refusal.
   int Step(int f, int k) {
     K.Begin();
     int b = K.F[f][k + 1], d = K.F[f][(k + 3) & 3];
@@ -424,6 +465,7 @@ class Simplifier {
       }
       if (!done) newInfo_[i] = EvalFace(g, vp);
       if (info_[g].ok && !newInfo_[i].ok) { K.Rollback(); return 2; }
+      if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) { K.Rollback(); return 3; }
     }
     K.Commit();
     for (int g : region_)
@@ -478,6 +520,7 @@ class Simplifier {
       int r = Step(e.f, e.k());
       if (r == 1) ++res_.rejectedTopology;
       if (r == 2) ++res_.rejectedFlip;
+      if (r == 3) ++res_.rejectedDeviation;
       if (r != 0 && e.otherCost >= 0) heap_.push(MakeEntry(e.otherCost, e.f, 1 - e.k(), e.stamp(), -1.0));
       if (p_.validateEveryOperation && r == 0) {
         std::string err = K.Check(&inv);
