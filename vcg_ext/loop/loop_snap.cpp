@@ -35,10 +35,17 @@ bool CrossEdge(const LoopSurface& s, int& f, double& v, double& w, int k) {
 struct Local {
   const LoopSurface& s;
   Vec3 p;
-  double tol;
+  double tol;    ///< tangential tolerance (absolute), never below the round-off of x - p
+  double noise;  ///< round-off level of a coordinate difference (~ eps * coordinate magnitude)
   int iters = 0;
   int moves = 0;
 };
+
+/// Whether the tangential residual (gradient of |x - p|^2 / 2 in 3-D units) is below tolerance.
+inline bool Stationary(const Local& L, const LoopEval& e, const Vec3& r) {
+  double g0 = e.Dv.dot(r), g1 = e.Dw.dot(r);
+  return std::abs(g0) <= L.tol * e.Dv.norm() && std::abs(g1) <= L.tol * e.Dw.norm();
+}
 
 /// Newton inside one face with boundary exit; returns 0 converged, 1 moved to neighbour via
 /// edge `edge`, 2 stuck on a mesh boundary / stalled.
@@ -48,8 +55,7 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
     L.s.Evaluate(f, v, w, e, 2);
     Vec3 r = e.P - L.p;
     double g0 = e.Dv.dot(r), g1 = e.Dw.dot(r);
-    double n0 = e.Dv.norm(), n1 = e.Dw.norm();
-    if (std::abs(g0) <= L.tol * n0 && std::abs(g1) <= L.tol * n1) return 0;
+    if (Stationary(L, e, r)) return 0;
     double H00 = e.Dv.dot(e.Dv) + e.Dvv.dot(r), H01 = e.Dv.dot(e.Dw) + e.Dvw.dot(r), H11 = e.Dw.dot(e.Dw) + e.Dww.dot(r);
     double det = H00 * H11 - H01 * H01;
     if (!(det > 0 && H00 > 0)) {  // not a local minimum model: Gauss-Newton
@@ -58,30 +64,67 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
       if (!(det > 0)) return 2;
     }
     double dv = -(H11 * g0 - H01 * g1) / det, dw = -(-H01 * g0 + H00 * g1) / det;
-    // backtracking on |r|^2 (only inside the face)
-    double f0 = r.squaredNorm(), t = 1.0;
+    // Trust region in the face's barycentric chart: far from the optimum the quadratic model is
+    // poor (a full step from the centroid overshot by 2-3x near curved corners) and a long step
+    // decides the face crossing on it; at most a quarter of the face per iteration.
+    {
+      const double len = std::max(std::abs(dv), std::abs(dw));
+      if (len > 0.25) { dv *= 0.25 / len; dw *= 0.25 / len; }
+    }
+    // A step shorter (in 3-D) than the tolerance: converged to round-off. This is what used to
+    // stall: near the optimum the decrease of |r|^2 (~ tangential^2) is far below the round-off
+    // of |r|^2 (~ |r| * eps * coordinates) when p is off the surface, so backtracking on |r|^2
+    // rejected good steps and Newton gave up just short of the tolerance.
+    double step3 = (dv * e.Dv + dw * e.Dw).norm();
     double nv = v + dv, nw = w + dw;
     bool inside = nv >= 0 && nw >= 0 && nv + nw <= 1;
+    if (inside && step3 <= L.tol) { v = nv; w = nw; return 0; }
+    // backtracking on |r|^2 with a round-off slack (only inside the face)
+    double f0 = r.squaredNorm(), t = 1.0;
+    const double slack = 4.0 * L.noise * (std::sqrt(f0) + step3);
     if (inside) {
-      for (int ls = 0; ls < 20; ++ls) {
+      for (int ls = 0; ls < 30; ++ls) {
         Vec3 q = L.s.Position(f, v + t * dv, w + t * dw);
-        if ((q - L.p).squaredNorm() <= f0 * (1 + 1e-15)) break;
+        if ((q - L.p).squaredNorm() <= f0 + slack) break;
         t *= 0.5;
       }
       v += t * dv;
       w += t * dw;
-      if (t < 1e-6) return 2;
+      if (t * step3 <= L.tol) return 0;  // no progress possible above round-off
+      if (t < 1e-9) return 2;
       continue;
     }
-    // leaving the face: stop on the boundary, pick the most negative barycentric
-    double b[3] = {1 - nv - nw, nv, nw};
-    int imin = 0;
-    for (int i = 1; i < 3; ++i)
-      if (b[i] < b[imin]) imin = i;
-    // fraction of the step to reach the boundary of that barycentric
-    double b0[3] = {1 - v - w, v, w};
-    double db = b[imin] - b0[imin];
-    double frac = db < 0 ? std::clamp(b0[imin] / -db, 0.0, 1.0) : 0.0;
+    // Leaving the face. The barycentric that reaches 0 first along the step decides the edge.
+    double b0[3] = {1 - v - w, v, w}, b1[3] = {1 - nv - nw, nv, nw};
+    int imin = -1;
+    double frac = 1.0;
+    for (int i = 0; i < 3; ++i)
+      if (b1[i] < 0) {
+        double fi = b0[i] / (b0[i] - b1[i]);
+        if (imin < 0 || fi < frac) { frac = fi; imin = i; }
+      }
+    frac = std::clamp(frac, 0.0, 1.0);
+    // Cross only if |x - p|^2 still decreases along the step at the boundary: a Newton step far
+    // from the optimum can overshoot an optimum that lies inside this face (near a corner, where
+    // the face's (v, w) chart is strongly curved); then take a shorter step inside instead.
+    {
+      LoopEval eb;
+      L.s.Evaluate(f, v + frac * dv, w + frac * dw, eb, 1);
+      const Vec3 rb = eb.P - L.p;
+      const double slope = eb.Dv.dot(rb) * dv + eb.Dw.dot(rb) * dw;
+      if (slope > 0 && frac > 0) {
+        double t2 = 0.5 * frac;
+        for (int ls = 0; ls < 30; ++ls) {
+          Vec3 q = L.s.Position(f, v + t2 * dv, w + t2 * dw);
+          if ((q - L.p).squaredNorm() <= f0 + slack) break;
+          t2 *= 0.5;
+        }
+        v += t2 * dv;
+        w += t2 * dw;
+        if (t2 * step3 <= L.tol) return 0;
+        continue;
+      }
+    }
     v += frac * dv;
     w += frac * dw;
     double bb[3] = {1 - v - w, v, w};
@@ -122,10 +165,30 @@ bool EdgeMinimize(Local& L, int f, double& v, double& w, int k, int maxIt) {
     if (!(h > 0)) h = xs.dot(xs);
     double ns = std::clamp(s - g / h, 0.0, 1.0);
     if (ns == s) return true;  // at an edge end (a corner): constrained optimum
+    if (std::abs(ns - s) * xs.norm() <= L.tol) { s = ns; toVW(s, v, w); return true; }
     s = ns;
   }
   toVW(s, v, w);
   return false;
+}
+
+/// Whether a point on edge k of face f (found by EdgeMinimize) is a true closest point: on a
+/// smooth edge the 2-D gradient must vanish; on a hard or boundary edge the descent direction
+/// must leave face f through that edge (the crease/boundary is the constrained optimum; the
+/// caller reaches this only after the other side pointed back, or at a boundary).
+bool EdgeOptimal(const Local& L, int f, double v, double w, int k) {
+  LoopEval e;
+  L.s.Evaluate(f, v, w, e, 1);
+  Vec3 r = e.P - L.p;
+  if (Stationary(L, e, r)) return true;
+  if (!L.s.EdgeHard(f, k) && L.s.FaceAcross(f, k) >= 0) return false;
+  // descent direction in (v, w): -(G^-1) grad; leaving through edge k lowers barycentric (k+2)%3
+  double E = e.Dv.dot(e.Dv), F = e.Dv.dot(e.Dw), G = e.Dw.dot(e.Dw), det = E * G - F * F;
+  if (!(det > 0)) return false;
+  double g0 = e.Dv.dot(r), g1 = e.Dw.dot(r);
+  double dv = -(G * g0 - F * g1) / det, dw = -(-F * g0 + E * g1) / det;
+  double db[3] = {-dv - dw, dv, dw};
+  return db[(k + 2) % 3] < 0;
 }
 
 }  // namespace
@@ -135,7 +198,8 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
   LoopSnapResult res;
   if (!surf.Ok() || surf.NumFaces() == 0 || !p.allFinite()) return res;
   const double diag = surf.NetDiagonal();
-  Local L{surf, p, sp.relTol * diag};
+  const double noise = 4 * std::numeric_limits<double>::epsilon() * (p.cwiseAbs().maxCoeff() + diag);
+  Local L{surf, p, std::max(sp.relTol * diag, 16 * noise), noise};
   if (face < 0 || face >= surf.NumFaces()) {
     // start at the closest point of the control net
     bool found = false;
@@ -159,6 +223,7 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
   if (ww < 0) ww = 0;
   if (vv + ww > 1) { double s = vv + ww; vv /= s; ww /= s; }
   int f = face, prevFace = -1, prevEdgeFace = -1;
+  int returns = 0;
   bool done = false;
   int exitEdge = -1;
   for (int round = 0; round < 4 * sp.maxIterations && L.iters < sp.maxIterations * 3; ++round) {
@@ -167,13 +232,14 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
     if (st == 2) break;
     // moving out through exitEdge
     int g = surf.FaceAcross(f, exitEdge);
-    if (g < 0 || g == prevFace) {
+    // Going back to the face we came from: a ping-pong across their edge (the optimum lies on
+    // it) only when it repeats. A single return is legitimate: a long step near a corner can
+    // overshoot into the neighbour, whose step points back (elephant.off); the second visit
+    // starts from the edge, where the model is good.
+    const bool pingPong = g == prevFace && ++returns > 2;
+    if (g < 0 || pingPong) {
       // boundary, or ping-pong across the edge: the optimum lies on the edge
-      done = EdgeMinimize(L, f, vv, ww, exitEdge, sp.maxIterations);
-      if (done) {
-        // accept only if the unconstrained step on the other side also points back
-        break;
-      }
+      done = EdgeMinimize(L, f, vv, ww, exitEdge, sp.maxIterations) && EdgeOptimal(L, f, vv, ww, exitEdge);
       break;
     }
     prevEdgeFace = f;
@@ -201,23 +267,38 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
     res.usedFallback = true;
     const auto& N = surf.Net();
     std::vector<int> cand;
-    (void)N;
-    // faces within two edge-steps of the current face
+    // faces within two edge-steps of the current face ...
+    auto add = [&](int g) {
+      if (g >= 0 && std::find(cand.begin(), cand.end(), g) == cand.end()) cand.push_back(g);
+    };
     cand.push_back(f);
     for (int r = 0; r < 2; ++r) {
       size_t n0 = cand.size();
       for (size_t i = 0; i < n0; ++i)
-        for (int k = 0; k < 3; ++k) {
-          int g = surf.FaceAcross(cand[i], k);
-          if (g >= 0 && std::find(cand.begin(), cand.end(), g) == cand.end()) cand.push_back(g);
+        for (int k = 0; k < 3; ++k) add(surf.FaceAcross(cand[i], k));
+    }
+    // ... and every face around its three corners: near a high-valence vertex the closest point
+    // can be several edge-steps away, and Newton ping-pongs between two faces of the fan (the
+    // (v, w) charts meet at an angle there). Found on elephant.off: 14 of 396 points on the
+    // surface re-snapped to 1e-4..1e-3 of the diagonal.
+    for (int k = 0; k < 3; ++k) {
+      const int x = N.F[f][k];
+      std::vector<int> fan{f};
+      for (size_t i = 0; i < fan.size(); ++i)
+        for (int e = 0; e < 3; ++e) {
+          int g = surf.FaceAcross(fan[i], e);
+          if (g < 0 || std::find(fan.begin(), fan.end(), g) != fan.end()) continue;
+          const auto& G = N.F[g];
+          if (G[0] == x || G[1] == x || G[2] == x) fan.push_back(g);
         }
+      for (int g : fan) add(g);
     }
     for (int g : cand) {
       double a = 1.0 / 3, b = 1.0 / 3;
       int ee;
       int st = NewtonInFace(L, g, a, b, ee, sp.maxIterations);
       bool ok = st == 0;
-      if (st == 1) ok = EdgeMinimize(L, g, a, b, ee, sp.maxIterations);
+      if (st == 1) ok = EdgeMinimize(L, g, a, b, ee, sp.maxIterations) && EdgeOptimal(L, g, a, b, ee);
       Vec3 q = surf.Position(g, a, b);
       double d = (q - p).norm();
       if (d < res.distance - 1e-15 * diag || (ok && !res.converged && d <= res.distance + 1e-15 * diag)) {
