@@ -112,6 +112,7 @@ int main(int argc, char** argv) {
     else if (k == "tw") p.fit.tangentWeight = v;
     else if (k == "dw") p.fit.dataWeight = v;
     else if (k == "sw") p.fit.sampleWeight = v;
+    else if (k == "smooth") p.fit.smoothWeight = v;
     else if (k == "fps") p.fit.footpointSegments = int(v);
     else if (k == "method") p.fit.method = v == 0 ? FitMethod::PointToPoint : FitMethod::TangentDistance;
     else { std::fprintf(stderr, "unknown option %s\n", k.c_str()); return 2; }
@@ -119,7 +120,7 @@ int main(int argc, char** argv) {
   if (pos.size() < 2) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
-                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [fps=foot-point segments] "
+                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] "
                  "[method=0 point-to-point | 1 tangent distance]\n",
                  argv[0]);
     return 2;

@@ -17,6 +17,7 @@
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/fit/fit_io.h"
+#include "vcg_ext/fit/fit_internal.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/io/mesh_io.h"
 
@@ -523,4 +524,24 @@ TEST(CCFit, RepeatedFitsAreIdentical) {
     for (size_t v = 0; v < a.control.V.size(); ++v) ASSERT_EQ(a.control.V[v], b.control.V[v]) << "vertex " << v;
     ASSERT_EQ(a.rmsPerIteration, b.rmsPerIteration);
   }
+}
+
+// The control-net smoothness term (smoothWeight, tangent-distance fit) trades a little fit error
+// for a smoother cage: |L X|^2 of the fitted net falls, the limit error stays close.
+TEST(CCFit, SmoothWeightSmoothsTheControlNet) {
+  TriData ref = BumpySphere(5, 0.02);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(3, 0.05, 4);
+  auto energy = [](const QuadData& c) {
+    Eigen::SparseMatrix<double> LtL = vcgext::fitdetail::LaplacianNormalMatrix(c);
+    Eigen::MatrixXd X(c.V.size(), 3);
+    for (size_t v = 0; v < c.V.size(); ++v) X.row(v) = c.V[v].transpose();
+    return (X.transpose() * (LtL * X)).trace();
+  };
+  FitParams a, b;
+  b.smoothWeight = 0.1;
+  FitResult ra = FitCatmullClark(q, ref, scene, a), rb = FitCatmullClark(q, ref, scene, b);
+  ASSERT_TRUE(ra.error.empty() && rb.error.empty()) << ra.error << rb.error;
+  EXPECT_LT(energy(rb.control), 0.9 * energy(ra.control));
+  EXPECT_LT(rb.dataRmsPerIteration.back(), 2.0 * ra.dataRmsPerIteration.back());
 }

@@ -93,6 +93,26 @@ EmbreeScene::Hit IntersectLineOriented(const EmbreeScene& scene, const std::vect
 
 }  // namespace fitdetail
 
+namespace fitdetail {
+Eigen::SparseMatrix<double> LaplacianNormalMatrix(const QuadData& control) {
+  const int nV = int(control.V.size());
+  std::vector<Eigen::Triplet<double>> tl;
+  std::vector<std::vector<int>> nb(nV);
+  for (const auto& q : control.F)
+    for (int c = 0; c < 4; ++c) { nb[q[c]].push_back(q[(c + 1) % 4]); nb[q[c]].push_back(q[(c + 3) % 4]); }
+  for (int v = 0; v < nV; ++v) {
+    std::sort(nb[v].begin(), nb[v].end());
+    nb[v].erase(std::unique(nb[v].begin(), nb[v].end()), nb[v].end());
+    if (nb[v].empty()) continue;
+    tl.emplace_back(v, v, 1.0);
+    for (int w : nb[v]) tl.emplace_back(v, w, -1.0 / double(nb[v].size()));
+  }
+  Eigen::SparseMatrix<double> Lap(nV, nV);
+  Lap.setFromTriplets(tl.begin(), tl.end());
+  return Eigen::SparseMatrix<double>(Lap.transpose() * Lap);
+}
+}  // namespace fitdetail
+
 FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitParams& p,
                           vcg::CallBackPos* cb) {
   FitResult res;
@@ -196,7 +216,8 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
     Eigen::MatrixXd X(nV, 3);
     for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
     res.secondsSetup = Since(t0);
-    res.error = fitdetail::FitTangentDistance(ls, ref, scene, p, rows, rowFace, weight, nS, maxDist, X, res, prog);
+    const SpMat LtL = p.smoothWeight > 0 ? fitdetail::LaplacianNormalMatrix(control) : SpMat(nV, nV);
+    res.error = fitdetail::FitTangentDistance(ls, ref, scene, p, rows, rowFace, weight, nS, maxDist, LtL, X, res, prog);
     if (!res.error.empty()) return res;
     res.control.F = control.F;
     res.control.V.resize(nV);
@@ -227,23 +248,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   SpMat M = AtW * A;
   const double meanDiag = M.diagonal().sum() / nV;
   const double lambda = p.dampingWeight * meanDiag, mu = p.smoothWeight * meanDiag;
-  if (mu > 0) {
-    // Uniform Laplacian of the control net (edges of the quads).
-    std::vector<Eigen::Triplet<double>> tl;
-    std::vector<std::vector<int>> nb(nV);
-    for (const auto& q : control.F)
-      for (int c = 0; c < 4; ++c) { nb[q[c]].push_back(q[(c + 1) % 4]); nb[q[c]].push_back(q[(c + 3) % 4]); }
-    for (int v = 0; v < nV; ++v) {
-      std::sort(nb[v].begin(), nb[v].end());
-      nb[v].erase(std::unique(nb[v].begin(), nb[v].end()), nb[v].end());
-      if (nb[v].empty()) continue;
-      tl.emplace_back(v, v, 1.0);
-      for (int w : nb[v]) tl.emplace_back(v, w, -1.0 / nb[v].size());
-    }
-    SpMat Lap(nV, nV);
-    Lap.setFromTriplets(tl.begin(), tl.end());
-    M += mu * SpMat(Lap.transpose() * Lap);
-  }
+  if (mu > 0) M += mu * fitdetail::LaplacianNormalMatrix(control);
   if (lambda > 0) {
     SpMat I(nV, nV);
     I.setIdentity();

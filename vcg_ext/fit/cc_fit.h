@@ -56,7 +56,7 @@ struct FitParams {
   int maxIterations = 8;               ///< project → solve iterations (at least 1)
   double minImprovement = 0.01;        ///< stop when the RMS improves by less than this fraction
   double dampingWeight = 1e-3;         ///< λ relative to mean(diag(AᵀWA)): pull to the previous iterate
-  double smoothWeight = 0.0;           ///< μ relative to mean(diag(AᵀWA)): control-net Laplacian (off)
+  double smoothWeight = 0.0;           ///< μ relative to mean(diag(AᵀWA)): control-net Laplacian (off; both methods)
   double maxMissFraction = 0.5;        ///< error if more limit samples than this miss the reference by ray
   FitMethod method = FitMethod::TangentDistance;  ///< PointToPoint = the paper's literal §3.5
   double tangentWeight = 0.01;         ///< TangentDistance: weight of the tangential residual components (1 = point-to-point)

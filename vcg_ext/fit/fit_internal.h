@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Sparse>
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/progress.h"
@@ -44,11 +45,18 @@ struct StencilRow {
 /// `rows` holds the fixed patch samples [0, nS) followed by the vertex rows of system (1); `rowFace`
 /// is the face each row lies in and `rowWeight` its weight. X (nV×3) is the start and, on return,
 /// the best iterate. Fills rmsPerIteration, dataRmsPerIteration, rayMissFraction, iterations and
-/// the timings of `res`. Returns an error message or "".
+/// the timings of `res`. `LtL` (LaplacianNormalMatrix, or empty when smoothWeight = 0) adds the
+/// control-net smoothness term μ·|L X|², μ = smoothWeight · mean diagonal. Returns an error
+/// message or "".
 std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
                                const FitParams& p, const std::vector<StencilRow>& rows,
                                const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
-                               double maxDist, Eigen::MatrixXd& X, FitResult& res, Progress& prog);
+                               double maxDist, const Eigen::SparseMatrix<double>& LtL, Eigen::MatrixXd& X,
+                               FitResult& res, Progress& prog);
+
+/// LᵀL of the uniform (umbrella) Laplacian L of the control net over its quad edges (nV×nV): the
+/// normal matrix of the smoothness term μ·|L X|² (FitParams::smoothWeight).
+Eigen::SparseMatrix<double> LaplacianNormalMatrix(const QuadData& control);
 
 }  // namespace fitdetail
 }  // namespace vcgext

@@ -56,7 +56,8 @@ int EntryPos(const SpMat& P, int row, int col) {
 std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
                                const FitParams& p, const std::vector<StencilRow>& rows,
                                const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
-                               double maxDist, Eigen::MatrixXd& X, FitResult& res, Progress& prog) {
+                               double maxDist, const SpMat& LtL, Eigen::MatrixXd& X, FitResult& res,
+                               Progress& prog) {
   const int nV = ls.NumVertices(), nF = ls.NumFaces(), nR = int(rows.size()), nRef = int(ref.V.size());
   const double wt = p.tangentWeight;
   const auto refN = FaceNormals(ref);
@@ -98,6 +99,14 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   }
   std::vector<int> diagPos(nV);
   for (int v = 0; v < nV; ++v) diagPos[v] = EntryPos(P, v, v);
+  // Smoothness term: entries of LᵀL (2-ring of the control net, inside the patch supports).
+  std::vector<std::pair<int, double>> lapEntries;  // (position in P, value)
+  if (p.smoothWeight > 0)
+    for (int c = 0; c < LtL.outerSize(); ++c)
+      for (SpMat::InnerIterator it(LtL, c); it; ++it) {
+        const int q = EntryPos(P, int(it.row()), int(it.col()));
+        if (q >= 0) lapEntries.emplace_back(q, it.value());
+      }
   // The 3nV system: block (r,c) has pattern P; columns ordered c-major, rows r-major within a column.
   SpMat H(3 * nV, 3 * nV);
   {
@@ -335,6 +344,9 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     double diagSum = 0;
     for (int v = 0; v < nV; ++v) diagSum += val[0][diagPos[v]] + val[3][diagPos[v]] + val[5][diagPos[v]];
     const double lambda = p.dampingWeight * diagSum / (3.0 * nV);
+    const double mu = p.smoothWeight * diagSum / (3.0 * nV);
+    for (const auto& [q, x] : lapEntries)
+      for (int s : {0, 3, 5}) val[s][q] += mu * x;
     {
       double* hv = H.valuePtr();
       size_t k = 0;
