@@ -21,6 +21,8 @@ sed 's/value="0" name="channel"/value="1" name="channel"/' "$REPO/meshlab_script
 shot fitmap_s "$OUT/fitmap.ply"
 shot fitmap_m "$tmp/fitmapM.ply"
 shot control "$OUT/control.ply"
+"$REPO/build/patch_layout" "$OUT/control.ply" "$tmp/patches.ply" >/dev/null
+shot patches "$tmp/patches.ply"
 shot limit "$OUT/limit.ply"
 shot displaced "$OUT/displaced.ply"
 convert "$OUT/displacement.png" -auto-level -resize 300x "$IMG/displacement_atlas.png"
