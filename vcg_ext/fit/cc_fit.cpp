@@ -304,14 +304,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
       return res;
     }
     res.rmsPerIteration.push_back(rms);
-    if (rms < bestRms) {
-      const bool enough = bestRms - rms < p.minImprovement * bestRms;
-      bestRms = rms;
-      best = X;
-      if (enough || it == p.maxIterations) break;
-    } else {
-      break;  // got worse: keep the previous iterate
-    }
+    if (fitdetail::StopIterating(rms, bestRms, X, best, p, it)) break;
     prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
     auto ts = Clock::now();
     Eigen::MatrixXd rhs = AtW * T;

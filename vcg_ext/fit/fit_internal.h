@@ -54,6 +54,18 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
                                double maxDist, const Eigen::SparseMatrix<double>& LtL, Eigen::MatrixXd& X,
                                FitResult& res, Progress& prog);
 
+/// Project → solve stopping rule shared by both fit methods: keeps X as `best` when `obj`
+/// improves on `bestObj`; returns true when the iterations should stop (no improvement — the
+/// previous iterate is kept —, an improvement below minImprovement, or the last iteration).
+inline bool StopIterating(double obj, double& bestObj, const Eigen::MatrixXd& X, Eigen::MatrixXd& best,
+                          const FitParams& p, int it) {
+  if (!(obj < bestObj)) return true;
+  const bool enough = bestObj - obj < p.minImprovement * bestObj;
+  bestObj = obj;
+  best = X;
+  return enough || it == p.maxIterations;
+}
+
 /// LᵀL of the uniform (umbrella) Laplacian L of the control net over its quad edges (nV×nV): the
 /// normal matrix of the smoothness term μ·|L X|² (FitParams::smoothWeight).
 Eigen::SparseMatrix<double> LaplacianNormalMatrix(const QuadData& control);

@@ -251,14 +251,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     res.rmsPerIteration.push_back(sRms);
     res.dataRmsPerIteration.push_back(dRms);
     res.objectivePerIteration.push_back(obj);
-    if (obj < bestObj) {
-      const bool enough = bestObj - obj < p.minImprovement * bestObj;
-      bestObj = obj;
-      best = X;
-      if (enough || it == p.maxIterations) break;
-    } else {
-      break;  // got worse: keep the previous iterate
-    }
+    if (StopIterating(obj, bestObj, X, best, p, it)) break;
     prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
 
     // ---- assemble (per face, dense local blocks) and solve.

@@ -47,6 +47,16 @@ inline bool Stationary(const Local& L, const LoopEval& e, const Vec3& r) {
   return std::abs(g0) <= L.tol * e.Dv.norm() && std::abs(g1) <= L.tol * e.Dw.norm();
 }
 
+/// Halves t (from t0, at most 30 times) until |x(v + t dv, w + t dw) - p|^2 <= bound.
+double Backtrack(const Local& L, int f, double v, double w, double dv, double dw, double t0, double bound) {
+  double t = t0;
+  for (int ls = 0; ls < 30; ++ls) {
+    if ((L.s.Position(f, v + t * dv, w + t * dw) - L.p).squaredNorm() <= bound) break;
+    t *= 0.5;
+  }
+  return t;
+}
+
 /// Newton inside one face with boundary exit; returns 0 converged, 1 moved to neighbour via
 /// edge `edge`, 2 stuck on a mesh boundary / stalled.
 int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt) {
@@ -83,11 +93,7 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
     double f0 = r.squaredNorm(), t = 1.0;
     const double slack = 4.0 * L.noise * (std::sqrt(f0) + step3);
     if (inside) {
-      for (int ls = 0; ls < 30; ++ls) {
-        Vec3 q = L.s.Position(f, v + t * dv, w + t * dw);
-        if ((q - L.p).squaredNorm() <= f0 + slack) break;
-        t *= 0.5;
-      }
+      t = Backtrack(L, f, v, w, dv, dw, 1.0, f0 + slack);
       v += t * dv;
       w += t * dw;
       if (t * step3 <= L.tol) return 0;  // no progress possible above round-off
@@ -113,12 +119,7 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
       const Vec3 rb = eb.P - L.p;
       const double slope = eb.Dv.dot(rb) * dv + eb.Dw.dot(rb) * dw;
       if (slope > 0 && frac > 0) {
-        double t2 = 0.5 * frac;
-        for (int ls = 0; ls < 30; ++ls) {
-          Vec3 q = L.s.Position(f, v + t2 * dv, w + t2 * dw);
-          if ((q - L.p).squaredNorm() <= f0 + slack) break;
-          t2 *= 0.5;
-        }
+        const double t2 = Backtrack(L, f, v, w, dv, dw, 0.5 * frac, f0 + slack);
         v += t2 * dv;
         w += t2 * dw;
         if (t2 * step3 <= L.tol) return 0;
