@@ -79,7 +79,7 @@ print(hdr); print("-" * len(hdr))
 for (mesh, alg), runs in rows.items():
     reps = [r for _, r in runs]
     t = lambda k: med([r["time_s"].get(k, 0.0) for r in reps])
-    fitbake = sum(t(k) for k in ("fit", "tessellate", "bake", "metrics"))
+    fitbake = sum(t(k) for k in ("fit", "tessellate", "bake", "metrics", "fit_setup"))
     simp = sum(t(k) for k in ("tri_to_quad", "initial_fit", "simplification"))
     tris = reps[0].get("reference_faces", 0)
     print(f"{mesh + ' (' + str(round(tris / 1000)) + 'k)':<22}{alg:<19}{med([r['patches'] for r in reps]):>9.0f}"

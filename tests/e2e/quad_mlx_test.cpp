@@ -102,12 +102,12 @@ TEST(RunPipeline, WholePipelineOnElephantWritesConsistentOutputs) {
   EXPECT_EQ(JsonNumber(json, "irregular_vertices"), s.irregular);
   // Every stage is timed and the total is their sum.
   double sum = 0;
-  for (const char* k : {"fitmaps", "tri_to_quad", "initial_fit", "simplification", "fit", "tessellate", "bake", "metrics"}) {
+  for (const char* k : {"fitmaps", "tri_to_quad", "initial_fit", "simplification", "fit", "tessellate", "bake", "metrics", "fit_setup"}) {
     double t = JsonNumber(json, k);
     EXPECT_TRUE(std::isfinite(t) && t >= 0) << k;
     sum += t;
   }
-  EXPECT_NEAR(JsonNumber(json, "total"), sum, 1e-3 + 1e-6 * sum);
+  EXPECT_NEAR(JsonNumber(json, "total"), sum, 1e-6 + 1e-6 * sum);  // rounding of the printed values only
   EXPECT_GT(JsonNumber(json, "peak_memory_mb"), 10);
   // Errors are finite and ordered: displacement restores detail.
   EXPECT_LT(JsonNumber(json, "rms_displaced_permille"), JsonNumber(json, "rms_limit_permille"));
