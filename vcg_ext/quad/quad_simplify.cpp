@@ -97,6 +97,7 @@ class Simplifier {
       : in_(in), scene_(scene), S_(S), M_(M), p_(p), res_(res) {
     diag_ = BBoxDiagonal(in.V);
     maxDist_ = p.projectionPercent / 100.0 * diag_;
+    for (double m : M) if (std::isfinite(m)) maxM_ = std::max(maxM_, m);
     tol_ = p.solveTolPercent / 100.0 * diag_;
     FN_ = FaceNormals(in);
     // input boundary segments (half-edges without twin)
@@ -125,11 +126,12 @@ class Simplifier {
   // projection phi along the line (either side) with fallback to nothing
   // Nearest hit on the line through c along +-n within maxDist_. Both rays start a hair behind c
   // so that a surface passing exactly through c (flat regions) is found reliably.
-  EmbreeScene::Hit LineHit(const Vec3& c, const Vec3& n) const {
+  EmbreeScene::Hit LineHit(const Vec3& c, const Vec3& n, double maxDist = -1) const {
     const double eps = 1e-7 * diag_;
-    EmbreeScene::Hit f = scene_.Intersect(c - eps * n, n, 0.0, maxDist_ + eps);
+    if (maxDist < 0) maxDist = maxDist_;
+    EmbreeScene::Hit f = scene_.Intersect(c - eps * n, n, 0.0, maxDist + eps);
     // the backward ray only needs to beat the forward hit (shorter rays traverse less)
-    EmbreeScene::Hit b = scene_.Intersect(c + eps * n, -n, 0.0, f.valid ? f.t + 2 * eps : maxDist_ + eps);
+    EmbreeScene::Hit b = scene_.Intersect(c + eps * n, -n, 0.0, f.valid ? f.t + 2 * eps : maxDist + eps);
     if (f.valid) f.t -= eps;
     if (b.valid) b.t = -(b.t - eps);
     if (f.valid && b.valid) return std::abs(f.t) <= std::abs(b.t) ? f : b;
@@ -186,7 +188,8 @@ class Simplifier {
       EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
       return h.valid && (h.point - pos).norm() <= DevTol(MAt(h.face, h.u, h.v));
     }
-    EmbreeScene::Hit h = LineHit(pos, *n);
+    // no hit beyond the largest possible tolerance can pass: shorter rays traverse less
+    EmbreeScene::Hit h = LineHit(pos, *n, std::min(maxDist_, DevTol(maxM_)));
     return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(MAt(h.face, h.u, h.v));
   }
   // geometric guard on face g (its corners' vertex points vp): centre (info) and edge midpoints
@@ -606,6 +609,7 @@ class Simplifier {
   const QuadSimplifyParams& p_;
   QuadSimplifyResult& res_;
   double diag_ = 1, maxDist_ = 1, tol_ = 1e-9;
+  double maxM_ = 0;  ///< largest M-fitmap value (bounds the guard's ray length)
   std::vector<Vec3> FN_;
   std::vector<std::pair<int, int>> bseg_;
   std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
