@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The main job, for a newcomer on a fresh Debian 12 machine (as root):
-#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--normal-map] [INPUT] [OUTDIR]
+#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--normal-map] [INPUT] [OUTDIR]
 # Sets up whatever is missing (apt packages, MeshLab sources, build, plugin install, sample
 # scans), then runs meshlab_scripts/pipeline.mlx through meshlabserver on INPUT (default: the
-# bunny scan bunny00.off) into OUTDIR (default: out/). tau defaults to 1 (percent).
+# bunny scan bunny00.off) into OUTDIR (default: out/). tau defaults to 1 (percent). --patches N
+# stops the simplification at N patches (a budget; default: when no feasible collapse is left).
 # Writes into OUTDIR:
 #   fitmap.ply             the input, per-vertex quality = S-fitmap, colour-mapped
 #   control.obj + .mtl     the fitted Catmull-Clark control mesh, real quads, per-wedge UVs
@@ -18,6 +19,7 @@
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 TAU=1
+PATCHES=0
 NORMAL=false
 args=()
 while [ $# -gt 0 ]; do
@@ -25,14 +27,18 @@ while [ $# -gt 0 ]; do
     --tau) [ $# -ge 2 ] || { echo "run_pipeline: --tau takes a number (percent)" >&2; exit 2; }
            TAU="$2"; shift 2 ;;
     --tau=*) TAU="${1#--tau=}"; shift ;;
+    --patches) [ $# -ge 2 ] || { echo "run_pipeline: --patches takes a whole number" >&2; exit 2; }
+               PATCHES="$2"; shift 2 ;;
+    --patches=*) PATCHES="${1#--patches=}"; shift ;;
     --normal-map) NORMAL=true; shift ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     -*) echo "run_pipeline: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) args+=("$1"); shift ;;
   esac
 done
 [ ${#args[@]} -le 2 ] || { echo "run_pipeline: too many arguments (see --help)" >&2; exit 2; }
 [[ "$TAU" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --tau takes a number (percent)" >&2; exit 2; }
+[[ "$PATCHES" =~ ^[0-9]+$ ]] || { echo "run_pipeline: --patches takes a whole number" >&2; exit 2; }
 
 # FITMAP_SKIP_SETUP=1: use the existing build/install (the end-to-end tests do).
 [ "${FITMAP_SKIP_SETUP:-0}" = 1 ] || bash "$REPO/scripts/setup.sh"
@@ -44,10 +50,12 @@ mkdir -p "$OUTDIR"
 OUTDIR=$(cd "$OUTDIR" && pwd)
 rm -f "$OUTDIR"/{fitmap.ply,control.obj,control.mtl,control.ply,limit.ply,displaced.ply,displacement.png,displacement.json,normal.png,report.json}
 
-# pipeline.mlx holds the defaults; tau, the normal map switch and the output folder are set here.
+# pipeline.mlx holds the defaults; tau, the patch budget, the normal map switch and the output
+# folder are set here.
 mlx="$OUTDIR/.pipeline.mlx"
 sed -E -e "s|value=\"[^\"]*\" name=\"tau\"|value=\"$TAU\" name=\"tau\"|" \
        -e "s|value=\"[^\"]*\" name=\"normalMap\"|value=\"$NORMAL\" name=\"normalMap\"|" \
+       -e "s|value=\"[^\"]*\" name=\"targetPatches\"|value=\"$PATCHES\" name=\"targetPatches\"|" \
        -e "s|value=\"[^\"]*\" name=\"outputDir\"|value=\"$OUTDIR\" name=\"outputDir\"|" \
        "$REPO/meshlab_scripts/pipeline.mlx" > "$mlx"
 echo "[run_pipeline] Fitmaps -> quad simplification -> Catmull-Clark fit + displacement (tau = $TAU%) on $INPUT"

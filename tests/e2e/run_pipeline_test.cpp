@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "e2e_support.h"
 #include "test_support.h"
@@ -31,9 +34,30 @@ TEST(RunPipeline, RejectsBadArguments) {
   auto r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " --tau abc");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("--tau takes a number"), std::string::npos) << r.output;
+  r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " --patches -3");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--patches takes a whole number"), std::string::npos) << r.output;
   r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " /nonexistent/mesh.off " + e2e::Q(e2e::OutPath("x")));
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("input not found"), std::string::npos) << r.output;
+}
+
+// A patch budget: the simplification stops there (it can only stop earlier than the M-fitmap
+// halting), the report says so.
+TEST(RunPipeline, PatchBudgetIsHonoured) {
+  const std::string outdir = e2e::OutPath("pipeline_budget");
+  auto r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " --tau 10 --patches 600 " +
+                    e2e::Q(testsupport::SamplePath("elephant.off")) + " " + e2e::Q(outdir));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream f(outdir + "/report.json");
+  std::string json((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const auto at = json.find("\"patches\": ");
+  ASSERT_NE(at, std::string::npos) << json;
+  const int patches = std::stoi(json.substr(at + 11));
+  // The budget stops the simplification early (without it: 413 at tau 10%, when no feasible
+  // collapse is left); one step removes a face plus at most a few doublets.
+  EXPECT_LE(patches, 600);
+  EXPECT_GE(patches, 595);
 }
 
 }  // namespace
