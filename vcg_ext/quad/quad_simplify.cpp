@@ -440,34 +440,24 @@ class Simplifier {
     for (int v : R1_)
       for (int g : K.VF(v))
         if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; region_.push_back(g); }
-    // The checks below are independent ray casts and limit evaluations: computed in parallel,
-    // then inspected in the original order, so the outcome (and which refusal is counted) is
-    // the same as checking one by one and stopping at the first failure.
-    const int nR1 = int(R1_.size()), nReg = int(region_.size());
     newVok_.resize(R1_.size());
     newVhit_.resize(R1_.size());
-#pragma omp parallel for schedule(dynamic, 4) if (nR1 >= 16)
-    for (int i = 0; i < nR1; ++i) {
-      int v = R1_[i], hit = -1;
-      newVok_[i] = vmarkOfW(v) ? VertexOk(v, &hit) : VertexOkFast(v, &hit);
-      newVhit_[i] = hit;
+    for (size_t i = 0; i < R1_.size(); ++i) {
+      int v = R1_[i];
+      bool inW = vmarkOfW(v);
+      newVok_[i] = inW ? VertexOk(v, &newVhit_[i]) : VertexOkFast(v, &newVhit_[i]);
+      if (vok_[v] && !newVok_[i]) { K.Rollback(); return 2; }
     }
-    for (int i = 0; i < nR1; ++i)
-      if (vok_[R1_[i]] && !newVok_[i]) { K.Rollback(); return 2; }
     newInfo_.resize(region_.size());
     ++vpEpoch_;
-    for (int g : region_)  // corner vertex points, shared by neighbouring faces (serial cache)
-      for (int x : K.F[g])
-        if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
-    regionFail_.assign(region_.size(), 0);
-#pragma omp parallel for schedule(dynamic, 2) if (nReg >= 8)
-    for (int i = 0; i < nReg; ++i) {
+    for (size_t i = 0; i < region_.size(); ++i) {
       const int g = region_[i];
       Vec3 vp[4];
       bool touchesW = false;
       for (int k = 0; k < 4; ++k) {
         int x = K.F[g][k];
         touchesW |= vmarkOfW(x);
+        if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
         vp[k] = vp_[x];
       }
       bool done = false;
@@ -477,11 +467,9 @@ class Simplifier {
         if (quad::FaceCentreLimit(K, g, vp, &fi.c, &n) && FN_[fi.hit].dot(n) > 0) { newInfo_[i] = fi; done = true; }
       }
       if (!done) newInfo_[i] = EvalFace(g, vp);
-      if (info_[g].ok && !newInfo_[i].ok) { regionFail_[i] = 2; continue; }
-      if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) regionFail_[i] = 3;
+      if (info_[g].ok && !newInfo_[i].ok) { K.Rollback(); return 2; }
+      if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) { K.Rollback(); return 3; }
     }
-    for (int i = 0; i < nReg; ++i)
-      if (regionFail_[i]) { K.Rollback(); return regionFail_[i]; }
     K.Commit();
     for (int g : region_)
       for (int j = 0; j < 4; ++j) limOk_[K.F[g][j]] = 0;  // all of ring1(W)
@@ -630,7 +618,6 @@ class Simplifier {
   std::vector<int> vhit_, newVhit_;
   std::vector<unsigned> wmarkOf_;
   unsigned wmark_ = 0;
-  std::vector<char> regionFail_;  ///< per region face: 0 ok, 2 flip, 3 geometric guard
   mutable std::vector<Vec3> lim_;
   std::vector<Vec3> vp_;
   std::vector<unsigned> vpStamp_;
