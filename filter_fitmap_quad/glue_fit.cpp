@@ -35,6 +35,11 @@ void InitFitParams(MeshDocument& md, RichParameterList& par) {
                          "Largest projection / displacement distance along the limit normal."));
   par.addParam(RichInt(param::kFitIterations, d.fit.maxIterations, "Fit iterations",
                        "Maximum project -> solve iterations of the least-squares fit."));
+  par.addParam(RichFloat(param::kSmoothWeight, float(d.fit.smoothWeight), "Control cage smoothing",
+                         "Weight of a control-net Laplacian term in the fit, relative to the mean "
+                         "diagonal of the normal equations (0 = off, the paper's fit). Small values "
+                         "(0.01-0.1) tame spiky control points on large patches at a small cost in "
+                         "limit error."));
   par.addParam(RichString(param::kOutputDir, "", "Output folder",
                           "Where displacement.png (+ .json), normal.png, control.obj (+ .mtl), control.ply and "
                           "report.json are written. Empty: a folder <reference>_cc next to the "
@@ -69,12 +74,14 @@ bool ApplyFit(GlueContext& ctx) {
   p.normalMap = ctx.par.getBool(param::kNormalMap);
   p.maxDistPercent = ctx.par.getFloat(param::kMaxDistPerc);
   p.fit.maxIterations = ctx.par.getInt(param::kFitIterations);
+  p.fit.smoothWeight = ctx.par.getFloat(param::kSmoothWeight);
   if (p.limitSegments < 1 || p.limitSegments > 64) return ctx.Fail("limit tessellation N must be in [1, 64]");
   if (p.textureResolution < 0 || p.textureResolution > 1024)
     return ctx.Fail("texture tile size R must be 0 (automatic) or in [2, 1024]");
   if (p.textureResolution == 1) return ctx.Fail("texture tile size R must be at least 2");
   if (!(p.maxDistPercent > 0 && p.maxDistPercent <= 100)) return ctx.Fail("max distance must be in (0, 100] percent");
   if (p.fit.maxIterations < 1 || p.fit.maxIterations > 100) return ctx.Fail("fit iterations must be in [1, 100]");
+  if (!(p.fit.smoothWeight >= 0 && p.fit.smoothWeight <= 10)) return ctx.Fail("control cage smoothing must be in [0, 10]");
 
   QString outDir = ctx.par.getString(param::kOutputDir).trimmed();
   if (outDir.isEmpty()) {

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <set>
+#include <sstream>
 
 #include "e2e_support.h"
 #include "test_support.h"
@@ -86,6 +88,104 @@ TEST(MlxScripts, FitAndBakeFitsForeignQuadMeshToSphere) {
     EXPECT_LT(std::abs(v.cQ()), 0.01);
   }
   EXPECT_LT(worst, 0.01);
+}
+
+// Control net read back from control.obj ("v x y z", "f a/t b/t c/t d/t"): mean length of the
+// uniform Laplacian (vertex minus the average of its edge neighbours), in model units.
+double MeanCageLaplacian(const std::string& objPath) {
+  std::ifstream in(objPath);
+  std::vector<vcgext::Vec3> V;
+  std::vector<std::set<int>> nb;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ss(line);
+    std::string tag;
+    ss >> tag;
+    if (tag == "v") {
+      double x, y, z;
+      ss >> x >> y >> z;
+      V.emplace_back(x, y, z);
+    } else if (tag == "f") {
+      std::vector<int> f;
+      std::string tok;
+      while (ss >> tok) f.push_back(std::stoi(tok.substr(0, tok.find('/'))) - 1);
+      nb.resize(V.size());
+      for (size_t k = 0; k < f.size(); ++k) {
+        nb[f[k]].insert(f[(k + 1) % f.size()]);
+        nb[f[(k + 1) % f.size()]].insert(f[k]);
+      }
+    }
+  }
+  if (V.empty() || nb.size() != V.size()) return NAN;
+  double sum = 0;
+  for (size_t i = 0; i < V.size(); ++i) {
+    vcgext::Vec3 avg = vcgext::Vec3::Zero();
+    for (int j : nb[i]) avg += V[j];
+    sum += (V[i] - avg / double(nb[i].size())).norm();
+  }
+  return sum / double(V.size());
+}
+
+// fit_and_bake.mlx with one parameter value replaced (the script lists every parameter).
+std::string FitScriptWith(const std::string& dir, const std::string& name, const std::string& value) {
+  std::ifstream in(e2e::Script("fit_and_bake.mlx"));
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::regex re("value=\"[^\"]*\" name=\"" + name + "\"");
+  EXPECT_TRUE(std::regex_search(s, re)) << name;
+  s = std::regex_replace(s, re, "value=\"" + value + "\" name=\"" + name + "\"");
+  const std::string path = dir + "/fit_" + name + "_" + value + ".mlx";
+  std::ofstream(path) << s;
+  return path;
+}
+
+// "Control cage smoothing" (smoothWeight, docs/fit.md "Control cage"): a control-net Laplacian
+// term trades limit error for a calmer net. Same foreign cube-sphere control mesh as above,
+// fitted to a bumpy sphere, with the term off and on; each fit writes its own output folder.
+TEST(MlxScripts, FitAndBakeCageSmoothingCalmsTheControlMesh) {
+  const std::string dir = e2e::OutPath("fit_smooth");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::TMesh ref;
+  testsupport::ToVcg(testsupport::Icosphere(5), ref);
+  for (auto& v : ref.vert) {  // r = 1 + 0.05 sin(5x) sin(5y) sin(5z): detail the fit chases
+    vcgext::Vec3 p(v.cP()[0], v.cP()[1], v.cP()[2]);
+    double r = 1.0 + 0.05 * std::sin(5 * p[0]) * std::sin(5 * p[1]) * std::sin(5 * p[2]);
+    v.P() = vcg::Point3f(float(r * p[0]), float(r * p[1]), float(r * p[2]));
+  }
+  ASSERT_EQ(vcgext::WriteQuadPly(dir + "/control.ply", CubeSphere(4)), "");
+  double lap[2], rms[2];
+  const char* weights[2] = {"0", "1"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string sub = dir + "/w" + weights[i];
+    ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(sub)).exitCode, 0);
+    ASSERT_EQ(vcgext::SaveMesh(sub + "/bumpy.off", ref), "");
+    auto r = e2e::Meshlabserver("-i " + e2e::Q(sub + "/bumpy.off") + " -i " + e2e::Q(dir + "/control.ply") +
+                                " -o " + e2e::Q(sub + "/limit.ply") + " -l 3 -s " +
+                                e2e::Q(FitScriptWith(dir, "smoothWeight", weights[i])));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    std::ifstream rep(sub + "/bumpy_cc/report.json");
+    std::string json((std::istreambuf_iterator<char>(rep)), std::istreambuf_iterator<char>());
+    rms[i] = JsonNumber(json, "rms_limit_permille");
+    lap[i] = MeanCageLaplacian(sub + "/bumpy_cc/control.obj");
+    ASSERT_TRUE(std::isfinite(rms[i]) && std::isfinite(lap[i])) << json;
+  }
+  // The penalized minimizer has a smaller penalty and a larger data error than the unpenalized
+  // one (a property of adding a convex term); μ = 1 is strong, so both changes are clear.
+  EXPECT_LT(lap[1], 0.9 * lap[0]) << lap[0] << " -> " << lap[1];
+  EXPECT_GT(rms[1], rms[0]) << rms[0] << " -> " << rms[1];
+}
+
+TEST(MlxScripts, FitAndBakeRejectsNegativeCageSmoothing) {
+  const std::string dir = e2e::OutPath("fit_smooth_bad");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::TMesh ref;
+  testsupport::ToVcg(testsupport::Icosphere(3), ref);
+  ASSERT_EQ(vcgext::SaveMesh(dir + "/sphere.off", ref), "");
+  ASSERT_EQ(vcgext::WriteQuadPly(dir + "/control.ply", CubeSphere(2)), "");
+  auto r = e2e::Meshlabserver("-i " + e2e::Q(dir + "/sphere.off") + " -i " + e2e::Q(dir + "/control.ply") +
+                              " -o " + e2e::Q(dir + "/out.ply") + " -s " +
+                              e2e::Q(FitScriptWith(dir, "smoothWeight", "-1")));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("control cage smoothing must be in [0, 10]"), std::string::npos) << r.output;
 }
 
 TEST(MlxScripts, FitAndBakeRejectsTriangleControlLayer) {
