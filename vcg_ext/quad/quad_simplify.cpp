@@ -282,6 +282,21 @@ class Simplifier {
 
   bool vmarkOfW(int v) const { return wmarkOf_[v] == wmark_; }
 
+  // Catmull-Clark vertex point of a corner of a checked face, during Step. It depends on the
+  // positions and faces of the vertex's 1-ring, which only change for vertices of R1_ =
+  // ring1(W): W holds every moved vertex and every vertex of a face the step's operators edited.
+  // So for the others the value of an earlier step is still exact (persistent cache,
+  // invalidated for R1_ at each commit); R1_'s are computed once per step (epoch cache).
+  const Vec3& RegionVertexPoint(int x) {
+    if (vmarkOf_[x] == vmark_) {  // in R1_ (the last CollectRing)
+      if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
+      return vp_[x];
+    }
+    if (!vpcOk_[x]) { vpc_[x] = quad::VertexPoint(K, x); vpcOk_[x] = 1; }
+    else if (p_.validateEveryOperation && !(vpc_[x] == quad::VertexPoint(K, x))) ++vpcStale_;
+    return vpc_[x];
+  }
+
   double Cost(int f, int k, const FaceInfo& fi) const {
     int a = K.F[f][k], c = K.F[f][k + 2];
     if (K.IsBoundary(a) && K.IsBoundary(c)) return -1;
@@ -457,8 +472,7 @@ class Simplifier {
       for (int k = 0; k < 4; ++k) {
         int x = K.F[g][k];
         touchesW |= vmarkOfW(x);
-        if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
-        vp[k] = vp_[x];
+        vp[k] = RegionVertexPoint(x);
       }
       bool done = false;
       if (!touchesW && info_[g].ok && info_[g].hit >= 0) {
@@ -471,6 +485,7 @@ class Simplifier {
       if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) { K.Rollback(); return 3; }
     }
     K.Commit();
+    for (int v : R1_) vpcOk_[v] = 0;  // their committed vertex points changed
     for (int g : region_)
       for (int j = 0; j < 4; ++j) limOk_[K.F[g][j]] = 0;  // all of ring1(W)
     for (size_t i = 0; i < region_.size(); ++i) info_[region_[i]] = newInfo_[i];
@@ -501,6 +516,8 @@ class Simplifier {
     lim_.assign(nv, Vec3::Zero());
     vp_.assign(nv, Vec3::Zero());
     vpStamp_.assign(nv, 0);
+    vpc_.assign(nv, Vec3::Zero());
+    vpcOk_.assign(nv, 0);
     limOk_.assign(nv, 0);
 #pragma omp parallel for schedule(dynamic, 256)
     for (int v = 0; v < nv; ++v) vok_[v] = VertexOk(v, &vhit_[v]) ? 1 : 0;
@@ -527,6 +544,7 @@ class Simplifier {
       if (r != 0 && e.otherCost >= 0) heap_.push(MakeEntry(e.otherCost, e.f, 1 - e.k(), e.stamp(), -1.0));
       if (p_.validateEveryOperation && r == 0) {
         std::string err = K.Check(&inv);
+        if (err.empty() && vpcStale_ > 0) err = std::to_string(vpcStale_) + " stale cached vertex points";
         if (!err.empty()) {
           res_.error = "internal error: invalid mesh after collapse " + std::to_string(res_.collapses) + ": " + err;
           return false;
@@ -621,6 +639,9 @@ class Simplifier {
   mutable std::vector<Vec3> lim_;
   std::vector<Vec3> vp_;
   std::vector<unsigned> vpStamp_;
+  std::vector<Vec3> vpc_;     ///< persistent vertex points (see RegionVertexPoint)
+  std::vector<char> vpcOk_;
+  long vpcStale_ = 0;         ///< test mode: cached vertex points found stale (must stay 0)
   unsigned vpEpoch_ = 0;
   mutable std::vector<char> limOk_;
   std::vector<unsigned> stamp_;
