@@ -49,6 +49,14 @@ LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3
       g[cvv[c] * (N + 1) + cu[c]] = id;
     }
     // Edges: e0 c0->c1 (j=0, i=m), e1 c1->c2 (i=N, j=m), e2 c2->c3 (j=N, i=N-m), e3 c3->c0 (i=0, j=N-m).
+    auto edgeGrid = [N](int e, int m, int* i, int* j) {
+      switch (e) {
+        case 0: *i = m; *j = 0; break;
+        case 1: *i = N; *j = m; break;
+        case 2: *i = N - m; *j = N; break;
+        default: *i = 0; *j = N - m; break;
+      }
+    };
     for (int e = 0; e < 4; ++e) {
       int a = cv[e], b = cv[(e + 1) % 4];
       bool fwd = a < b;
@@ -60,25 +68,14 @@ LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3
       else base = it->second;
       for (int m = 1; m < N; ++m) {
         int i, j;
-        switch (e) {
-          case 0: i = m; j = 0; break;
-          case 1: i = N; j = m; break;
-          case 2: i = N - m; j = N; break;
-          default: i = 0; j = N - m; break;
-        }
+        edgeGrid(e, m, &i, &j);
         int cm = fwd ? m : N - m;  // canonical position along a<b
         g[j * (N + 1) + i] = base + cm - 1;
       }
       if (created) {
         for (int cm = 1; cm < N; ++cm) {
-          int m = fwd ? cm : N - cm;
           int i, j;
-          switch (e) {
-            case 0: i = m; j = 0; break;
-            case 1: i = N; j = m; break;
-            case 2: i = N - m; j = N; break;
-            default: i = 0; j = N - m; break;
-          }
+          edgeGrid(e, fwd ? cm : N - cm, &i, &j);
           addVertex(f, double(i) / N, double(j) / N);
         }
       }
