@@ -4,8 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
 
 #include "test_support.h"
 
@@ -31,6 +35,18 @@ std::string Q(const std::string& s) {
 
 RunResult Meshlabserver(const std::string& args) {
   return Run(Q(std::string(FITMAP_SOURCE_DIR) + "/scripts/meshlabserver.sh") + " " + args);
+}
+
+std::string Slurp(const std::string& path) {
+  std::ifstream f(path);
+  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+double JsonNumber(const std::string& json, const std::string& key) {
+  std::smatch m;
+  std::regex re("\"" + key + "\"\\s*:\\s*([-0-9.eE+]+)");
+  if (!std::regex_search(json, m, re)) return NAN;
+  return std::stod(m[1]);
 }
 
 std::string OutPath(const std::string& name) { return testsupport::ScratchDir() + "/" + name; }

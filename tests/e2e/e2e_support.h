@@ -22,5 +22,9 @@ std::vector<std::string> MlxScripts();
 std::string Script(const std::string& name);
 /// Quotes a string for /bin/sh.
 std::string Q(const std::string& s);
+/// The whole content of a file ("" if it cannot be read).
+std::string Slurp(const std::string& path);
+/// The number after `"key":` in a JSON text (report.json is flat enough), NaN if absent.
+double JsonNumber(const std::string& json, const std::string& key);
 
 }  // namespace e2e

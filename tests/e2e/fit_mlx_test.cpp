@@ -44,12 +44,7 @@ vcgext::QuadData CubeSphere(int n) {
   return q;
 }
 
-double JsonNumber(const std::string& json, const std::string& key) {
-  std::smatch m;
-  std::regex re("\"" + key + "\"\\s*:\\s*([-0-9.eE+]+)");
-  if (!std::regex_search(json, m, re)) return NAN;
-  return std::stod(m[1]);
-}
+using e2e::JsonNumber;
 
 TEST(MlxScripts, FitAndBakeFitsForeignQuadMeshToSphere) {
   const std::string dir = e2e::OutPath("fit_sphere");
@@ -65,9 +60,8 @@ TEST(MlxScripts, FitAndBakeFitsForeignQuadMeshToSphere) {
                               e2e::Q(e2e::Script("fit_and_bake.mlx")));
   ASSERT_EQ(r.exitCode, 0) << r.output;
   // Files land in <reference>_cc next to the reference.
-  std::ifstream rep(dir + "/sphere_cc/report.json");
-  ASSERT_TRUE(rep.good()) << r.output;
-  std::string json((std::istreambuf_iterator<char>(rep)), std::istreambuf_iterator<char>());
+  const std::string json = e2e::Slurp(dir + "/sphere_cc/report.json");
+  ASSERT_FALSE(json.empty()) << r.output;
   EXPECT_EQ(JsonNumber(json, "patches"), 96);
   EXPECT_EQ(JsonNumber(json, "irregular_vertices"), 8);
   // A 96-patch Catmull-Clark surface approximates the sphere to well under 1‰ of the diagonal
@@ -128,8 +122,7 @@ double MeanCageLaplacian(const std::string& objPath) {
 
 // fit_and_bake.mlx with one parameter value replaced (the script lists every parameter).
 std::string FitScriptWith(const std::string& dir, const std::string& name, const std::string& value) {
-  std::ifstream in(e2e::Script("fit_and_bake.mlx"));
-  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string s = e2e::Slurp(e2e::Script("fit_and_bake.mlx"));
   std::regex re("value=\"[^\"]*\" name=\"" + name + "\"");
   EXPECT_TRUE(std::regex_search(s, re)) << name;
   s = std::regex_replace(s, re, "value=\"" + value + "\" name=\"" + name + "\"");
@@ -162,8 +155,7 @@ TEST(MlxScripts, FitAndBakeCageSmoothingCalmsTheControlMesh) {
                                 " -o " + e2e::Q(sub + "/limit.ply") + " -l 3 -s " +
                                 e2e::Q(FitScriptWith(dir, "smoothWeight", weights[i])));
     ASSERT_EQ(r.exitCode, 0) << r.output;
-    std::ifstream rep(sub + "/bumpy_cc/report.json");
-    std::string json((std::istreambuf_iterator<char>(rep)), std::istreambuf_iterator<char>());
+    const std::string json = e2e::Slurp(sub + "/bumpy_cc/report.json");
     rms[i] = JsonNumber(json, "rms_limit_permille");
     lap[i] = MeanCageLaplacian(sub + "/bumpy_cc/control.obj");
     ASSERT_TRUE(std::isfinite(rms[i]) && std::isfinite(lap[i])) << json;

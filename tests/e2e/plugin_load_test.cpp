@@ -1,7 +1,6 @@
 // The installed plugin loads in meshlabserver and in the MeshLab GUI (under Xvfb) without errors.
 #include <gtest/gtest.h>
 
-#include <fstream>
 
 #include "e2e_support.h"
 
@@ -32,7 +31,6 @@ TEST(PluginLoad, MeshlabserverListsOurFilters) {
   // meshlabserver -d dumps the filter list with its documentation: our filters must be there.
   std::string dump = e2e::OutPath("filters_dump.txt");
   auto r = e2e::Meshlabserver("-d " + e2e::Q(dump));
-  std::ifstream f(dump);
-  std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::string text = e2e::Slurp(dump);
   EXPECT_NE(text.find("Compute Fitmaps"), std::string::npos) << r.output.substr(0, 2000);
 }

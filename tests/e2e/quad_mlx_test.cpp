@@ -44,17 +44,8 @@ QuadStats Stats(const vcgext::QuadData& q) {
   return s;
 }
 
-double JsonNumber(const std::string& json, const std::string& key) {
-  std::smatch m;
-  std::regex re("\"" + key + "\"\\s*:\\s*([-0-9.eE+]+)");
-  if (!std::regex_search(json, m, re)) return NAN;
-  return std::stod(m[1]);
-}
-
-std::string Slurp(const std::string& path) {
-  std::ifstream f(path);
-  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-}
+using e2e::JsonNumber;
+using e2e::Slurp;
 
 TEST(MlxScripts, QuadSimplificationOnBunnyIsAValidCoarseQuadMesh) {
   const std::string in = testsupport::SamplePath("bunny00.off");
