@@ -141,11 +141,9 @@ class Simplifier {
   bool Project(const Vec3& c, const Vec3& n, FaceInfo* fi, Vec3* point) const {
     EmbreeScene::Hit h = LineHit(c, n);
     if (!h.valid) return false;
-    const Tri& t = in_.F[h.face];
-    double w0 = 1.0 - h.u - h.v;
     if (fi) {
-      fi->S = w0 * S_[t[0]] + h.u * S_[t[1]] + h.v * S_[t[2]];
-      fi->M = w0 * M_[t[0]] + h.u * M_[t[1]] + h.v * M_[t[2]];
+      fi->S = AtHit(S_, h);
+      fi->M = AtHit(M_, h);
       fi->ok = FN_[h.face].dot(n) > 0;
       fi->hit = h.face;
       fi->dist = std::abs(h.t);
@@ -162,19 +160,18 @@ class Simplifier {
       // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
       EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
       if (h.valid) {
-        const Tri& t = in_.F[h.face];
-        double w0 = 1.0 - h.u - h.v;
-        fi.S = w0 * S_[t[0]] + h.u * S_[t[1]] + h.v * S_[t[2]];
-        fi.M = w0 * M_[t[0]] + h.u * M_[t[1]] + h.v * M_[t[2]];
+        fi.S = AtHit(S_, h);
+        fi.M = AtHit(M_, h);
       }
       fi.ok = false;
     }
     return fi;
   }
 
-  double MAt(int face, double u, double v) const {
-    const Tri& t = in_.F[face];
-    return (1.0 - u - v) * M_[t[0]] + u * M_[t[1]] + v * M_[t[2]];
+  // a per-input-vertex field (S or M) interpolated at a hit on the input
+  double AtHit(const std::vector<double>& A, const EmbreeScene::Hit& h) const {
+    const Tri& t = in_.F[h.face];
+    return (1.0 - h.u - h.v) * A[t[0]] + h.u * A[t[1]] + h.v * A[t[2]];
   }
   // tolerance of the geometric guard at an input hit
   double DevTol(double m) const {
@@ -186,11 +183,11 @@ class Simplifier {
   bool SampleOk(const Vec3& pos, const Vec3* n) const {
     if (!n) {
       EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
-      return h.valid && (h.point - pos).norm() <= DevTol(MAt(h.face, h.u, h.v));
+      return h.valid && (h.point - pos).norm() <= DevTol(AtHit(M_, h));
     }
     // no hit beyond the largest possible tolerance can pass: shorter rays traverse less
     EmbreeScene::Hit h = LineHit(pos, *n, std::min(maxDist_, DevTol(maxM_)));
-    return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(MAt(h.face, h.u, h.v));
+    return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(AtHit(M_, h));
   }
   // geometric guard on face g (its corners' vertex points vp): centre (info) and edge midpoints
   // (each edge once: skipped when the neighbour also touches W and has the smaller index)
@@ -208,7 +205,7 @@ class Simplifier {
   }
   bool faceTouchesW(int g) const {
     for (int x : K.F[g])
-      if (wmarkOf_[x] == wmark_) return true;
+      if (vmarkOfW(x)) return true;
     return false;
   }
 
