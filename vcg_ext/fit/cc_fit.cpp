@@ -91,9 +91,6 @@ EmbreeScene::Hit IntersectLineOriented(const EmbreeScene& scene, const std::vect
   return best;
 }
 
-}  // namespace fitdetail
-
-namespace fitdetail {
 Eigen::SparseMatrix<double> LaplacianNormalMatrix(const QuadData& control) {
   const int nV = int(control.V.size());
   std::vector<Eigen::Triplet<double>> tl;
@@ -111,6 +108,7 @@ Eigen::SparseMatrix<double> LaplacianNormalMatrix(const QuadData& control) {
   Lap.setFromTriplets(tl.begin(), tl.end());
   return Eigen::SparseMatrix<double>(Lap.transpose() * Lap);
 }
+
 }  // namespace fitdetail
 
 FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitParams& p,
