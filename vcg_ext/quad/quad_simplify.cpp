@@ -219,6 +219,17 @@ class Simplifier {
     if (hitFace && h.valid) *hitFace = h.face;
     return h.valid && FN_[h.face].dot(n) > 0;
   }
+  // A vertex of W right after LocalFit: its limit point was solved onto its target, a point of
+  // input triangle `hit`; if it is there (within 10x the solve tolerance), the line along its
+  // normal meets the input at that point first, so the ray cast of VertexOk is skipped.
+  bool VertexOkAfterFit(int v, const Vec3& target, int hit, int* hitFace) const {
+    if (hit < 0 || !K.VertAlive(v) || K.IsBoundary(v)) return VertexOk(v, hitFace);
+    Vec3 pos, n;
+    if (!quad::VertexLimitFrame(K, v, &pos, &n)) return false;
+    if ((pos - target).norm() > 10 * tol_) return VertexOk(v, hitFace);
+    *hitFace = hit;
+    return FN_[hit].dot(n) > 0;
+  }
   // Elements only in the 2-ring of the moved vertices move little: if their new limit normal
   // still agrees with the input triangle their last projection hit, no ray is cast (the full
   // test runs otherwise, and on the final mesh).
@@ -246,13 +257,18 @@ class Simplifier {
     return q;
   }
 
-  Vec3 VertexTarget(int v) const {
+  // hitFace: the input triangle the target lies on when it is a projection along the normal (else -1)
+  Vec3 VertexTarget(int v, int* hitFace = nullptr) const {
+    if (hitFace) *hitFace = -1;
     if (Pinned(v)) return in_.V[v];
     if (K.IsBoundary(v)) return BoundaryTarget(quad::VertexLimit(K, v));
     Vec3 pos, n;
     if (!quad::VertexLimitFrame(K, v, &pos, &n)) return quad::VertexLimit(K, v);
-    Vec3 hit;
-    if (Project(pos, n, nullptr, &hit)) return hit;
+    EmbreeScene::Hit hl = LineHit(pos, n);
+    if (hl.valid) {
+      if (hitFace) *hitFace = hl.face;
+      return hl.point;
+    }
     EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
     return h.valid ? h.point : pos;
   }
@@ -348,8 +364,13 @@ class Simplifier {
         for (int j = 0; j < 4; ++j) add(K.F[g][j]);
   }
 
+  // After LocalFit: lfTargets_[i] / lfHit_[i] = the last round's target of W[i] and the input
+  // triangle it lies on (-1: not a projection along the normal).
   void LocalFit(const std::vector<int>& W, int rounds = -1) {
-    std::vector<Vec3> newP(W.size()), targets(W.size());
+    std::vector<Vec3> newP(W.size());
+    std::vector<Vec3>& targets = lfTargets_;
+    targets.resize(W.size());
+    lfHit_.assign(W.size(), -1);
     std::vector<quad::Wedge> fan;
     if (rounds < 0) rounds = p_.fitRounds;
     for (int round = 0; round < rounds; ++round) {
@@ -367,7 +388,7 @@ class Simplifier {
         newP[i] = (1.0 - p_.smoothingWeight) * K.P[v] + p_.smoothingWeight * avg;
       }
       for (size_t i = 0; i < W.size(); ++i) K.MoveVertex(W[i], newP[i]);
-      for (size_t i = 0; i < W.size(); ++i) targets[i] = VertexTarget(W[i]);
+      for (size_t i = 0; i < W.size(); ++i) targets[i] = VertexTarget(W[i], &lfHit_[i]);
       quad::SolveInterpolationLocal(K, W, targets, tol_, p_.localSolveIterations);
     }
   }
@@ -445,7 +466,7 @@ class Simplifier {
     // depends on their 1-ring) and the faces incident to them (centre limit depends on the
     // corners' 1-rings); stops at the first element that agreed with the input and does not now
     ++wmark_;
-    for (int v : W) wmarkOf_[v] = wmark_;
+    for (size_t i = 0; i < W.size(); ++i) { wmarkOf_[W[i]] = wmark_; wIndex_[W[i]] = int(i); }
     CollectRing(W, R1_);
     ++fmark_;
     region_.clear();
@@ -457,7 +478,8 @@ class Simplifier {
     for (size_t i = 0; i < R1_.size(); ++i) {
       int v = R1_[i];
       bool inW = vmarkOfW(v);
-      newVok_[i] = inW ? VertexOk(v, &newVhit_[i]) : VertexOkFast(v, &newVhit_[i]);
+      newVok_[i] = inW ? VertexOkAfterFit(v, lfTargets_[wIndex_[v]], lfHit_[wIndex_[v]], &newVhit_[i])
+                       : VertexOkFast(v, &newVhit_[i]);
       if (vok_[v] && !newVok_[i]) { K.Rollback(); return 2; }
     }
     newInfo_.resize(region_.size());
@@ -510,6 +532,7 @@ class Simplifier {
     vok_.assign(nv, 1);
     vhit_.assign(nv, -1);
     wmarkOf_.assign(nv, 0);
+    wIndex_.assign(nv, -1);
     lim_.assign(nv, Vec3::Zero());
     vp_.assign(nv, Vec3::Zero());
     vpStamp_.assign(nv, 0);
@@ -632,6 +655,9 @@ class Simplifier {
   std::vector<char> vok_, newVok_;
   std::vector<int> vhit_, newVhit_;
   std::vector<unsigned> wmarkOf_;
+  std::vector<int> wIndex_;         ///< position of a vertex in the current step's W
+  std::vector<Vec3> lfTargets_;     ///< see LocalFit
+  std::vector<int> lfHit_;
   unsigned wmark_ = 0;
   mutable std::vector<Vec3> lim_;
   std::vector<Vec3> vp_;
