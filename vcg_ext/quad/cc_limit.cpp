@@ -3,6 +3,7 @@
 #include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>
 
+#include <algorithm>
 #include <cmath>
 
 namespace vcgext {
@@ -71,8 +72,56 @@ bool VertexLimitFrame(const QuadMesh& m, int v, Vec3* pos, Vec3* normal) {
   return true;
 }
 
-// Catmull-Clark vertex point of control vertex v (one refinement step).
-Vec3 VertexPoint(const QuadMesh& m, int v) {
+// ---------------------------------------------------------------------------- QuadMemo
+void QuadMemo::Reset() {
+  const size_t nf = m_->F.size();
+  if (cStamp_.size() != nf) {
+    cStamp_.assign(nf, 0);
+    aStamp_.assign(nf, 0);
+    cent_.resize(nf);
+    adj_.resize(nf);
+  }
+  if (++epoch_ == 0) {  // wrapped: clear the stamps
+    std::fill(cStamp_.begin(), cStamp_.end(), 0u);
+    std::fill(aStamp_.begin(), aStamp_.end(), 0u);
+    epoch_ = 1;
+  }
+}
+const Vec3& QuadMemo::Centroid(int f) const {
+  if (cStamp_[f] != epoch_) { cStamp_[f] = epoch_; cent_[f] = m_->Centroid(f); }
+  return cent_[f];
+}
+void QuadMemo::Adjacency(int f) const {
+  if (aStamp_[f] == epoch_) return;
+  aStamp_[f] = epoch_;
+  for (int k = 0; k < 4; ++k) adj_[f][k] = m_->AcrossEdge(f, k);
+}
+int QuadMemo::AcrossEdge(int f, int k) const {
+  Adjacency(f);
+  return adj_[f][k];
+}
+int QuadMemo::CountStale() const {
+  int stale = 0;
+  for (size_t f = 0; f < cStamp_.size(); ++f) {
+    if (!m_->FaceAlive(int(f))) {
+      stale += (cStamp_[f] == epoch_ || aStamp_[f] == epoch_) ? 1 : 0;
+      continue;
+    }
+    if (cStamp_[f] == epoch_ && !(cent_[f] == m_->Centroid(int(f)))) ++stale;
+    if (aStamp_[f] == epoch_)
+      for (int k = 0; k < 4; ++k) stale += adj_[f][k] != m_->AcrossEdge(int(f), k) ? 1 : 0;
+  }
+  return stale;
+}
+
+// ---------------------------------------------------------------------------- stencils
+// The stencils below are written once for any "view" (QuadMesh itself, or a QuadMemo) that
+// provides Mesh(), Centroid(f) and AcrossEdge(f, k).
+namespace {
+
+template <class View>
+Vec3 VertexPointT(const View& view, int v) {
+  const QuadMesh& m = view.Mesh();
   std::vector<Wedge>& w = tlFan;
   bool open = false;
   if (!m.Fan(v, w, &open)) return m.P[v];
@@ -80,7 +129,7 @@ Vec3 VertexPoint(const QuadMesh& m, int v) {
   const double n = double(w.size());
   Vec3 Q = Vec3::Zero(), R = Vec3::Zero();
   for (const Wedge& x : w) {
-    Q += m.Centroid(x.f);
+    Q += view.Centroid(x.f);
     R += 0.5 * (m.P[v] + m.P[x.n]);
   }
   Q /= n;
@@ -88,23 +137,18 @@ Vec3 VertexPoint(const QuadMesh& m, int v) {
   return (Q + 2.0 * R + (n - 3.0) * m.P[v]) / n;
 }
 
-bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal) {
-  if (!m.FaceAlive(f)) return false;
-  Vec3 V[4];
-  for (int k = 0; k < 4; ++k) V[k] = VertexPoint(m, m.F[f][k]);
-  return FaceCentreLimit(m, f, V, pos, normal);
-}
-
-bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 V[4], Vec3* pos, Vec3* normal) {
+template <class View>
+bool FaceCentreLimitT(const View& view, int f, const Vec3 V[4], Vec3* pos, Vec3* normal) {
+  const QuadMesh& m = view.Mesh();
   if (!m.FaceAlive(f)) return false;
   const Quad& q = m.F[f];
-  const Vec3 Fp = m.Centroid(f);
+  const Vec3 Fp = view.Centroid(f);
   Vec3 E[4];
   for (int k = 0; k < 4; ++k) {
     const Vec3& a = m.P[q[k]];
     const Vec3& b = m.P[q[(k + 1) & 3]];
-    int g = m.AcrossEdge(f, k);
-    E[k] = g < 0 ? Vec3(0.5 * (a + b)) : Vec3(0.25 * (a + b + Fp + m.Centroid(g)));
+    int g = view.AcrossEdge(f, k);
+    E[k] = g < 0 ? Vec3(0.5 * (a + b)) : Vec3(0.25 * (a + b + Fp + view.Centroid(g)));
   }
   if (pos) *pos = (16.0 * Fp + 4.0 * (E[0] + E[1] + E[2] + E[3]) + (V[0] + V[1] + V[2] + V[3])) / 36.0;
   if (normal) {
@@ -120,14 +164,16 @@ bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 V[4], Vec3* pos, Vec3*
   return true;
 }
 
-bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal) {
+template <class View>
+bool EdgeMidLimitT(const View& view, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal) {
+  const QuadMesh& m = view.Mesh();
   if (hasNormal) *hasNormal = false;
   if (!m.FaceAlive(f)) return false;
   const Quad& q = m.F[f];
   const int a = q[k], b = q[(k + 1) & 3];
-  const Vec3 VPa = vp ? vp[k] : VertexPoint(m, a);
-  const Vec3 VPb = vp ? vp[(k + 1) & 3] : VertexPoint(m, b);
-  const int g = m.AcrossEdge(f, k);
+  const Vec3 VPa = vp ? vp[k] : VertexPointT(view, a);
+  const Vec3 VPb = vp ? vp[(k + 1) & 3] : VertexPointT(view, b);
+  const int g = view.AcrossEdge(f, k);
   if (g < 0) {
     const Vec3 E = 0.5 * (m.P[a] + m.P[b]);
     if (pos) *pos = (VPa + 4.0 * E + VPb) / 6.0;
@@ -137,10 +183,10 @@ bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Ve
   auto edgePoint = [&](int h, int j) {
     const Vec3& x = m.P[m.F[h][j]];
     const Vec3& y = m.P[m.F[h][(j + 1) & 3]];
-    const int o = m.AcrossEdge(h, j);
-    return o < 0 ? Vec3(0.5 * (x + y)) : Vec3(0.25 * (x + y + m.Centroid(h) + m.Centroid(o)));
+    const int o = view.AcrossEdge(h, j);
+    return o < 0 ? Vec3(0.5 * (x + y)) : Vec3(0.25 * (x + y + view.Centroid(h) + view.Centroid(o)));
   };
-  const Vec3 FPf = m.Centroid(f), FPg = m.Centroid(g);
+  const Vec3 FPf = view.Centroid(f), FPg = view.Centroid(g);
   const Vec3 E = 0.25 * (m.P[a] + m.P[b] + FPf + FPg);
   const int kb = m.CornerOf(g, b);  // g holds the twin b -> a as its edge kb
   if (kb < 0) return false;
@@ -160,6 +206,31 @@ bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Ve
     if (hasNormal) *hasNormal = true;
   }
   return true;
+}
+
+}  // namespace
+
+// Catmull-Clark vertex point of control vertex v (one refinement step).
+Vec3 VertexPoint(const QuadMesh& m, int v) { return VertexPointT(m, v); }
+Vec3 VertexPoint(const QuadMemo& m, int v) { return VertexPointT(m, v); }
+
+bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal) {
+  if (!m.FaceAlive(f)) return false;
+  Vec3 V[4];
+  for (int k = 0; k < 4; ++k) V[k] = VertexPoint(m, m.F[f][k]);
+  return FaceCentreLimit(m, f, V, pos, normal);
+}
+bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 V[4], Vec3* pos, Vec3* normal) {
+  return FaceCentreLimitT(m, f, V, pos, normal);
+}
+bool FaceCentreLimit(const QuadMemo& m, int f, const Vec3 V[4], Vec3* pos, Vec3* normal) {
+  return FaceCentreLimitT(m, f, V, pos, normal);
+}
+bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal) {
+  return EdgeMidLimitT(m, f, k, vp, pos, normal, hasNormal);
+}
+bool EdgeMidLimit(const QuadMemo& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal) {
+  return EdgeMidLimitT(m, f, k, vp, pos, normal, hasNormal);
 }
 
 InterpolationStats SolveInterpolationLocal(QuadMesh& m, const std::vector<int>& W,

@@ -5,6 +5,7 @@
 /// rebuilding OpenSubdiv topology each step would be far too slow. Boundary rules are those of
 /// OpenSubdiv's VTX_BOUNDARY_EDGE_ONLY (boundary edges infinitely sharp, boundary curves cubic
 /// B-splines, valence-2 boundary corners smooth). Verified against OpenSubdiv in tests/quad.
+#include <array>
 #include <utility>
 #include <vector>
 
@@ -12,6 +13,31 @@
 
 namespace vcgext {
 namespace quad {
+
+/// Read-only view of a QuadMesh that memoizes face centroids and edge adjacency (each computed
+/// on first use). Valid only while the mesh's positions and connectivity do not change, e.g. the
+/// checks of one simplification step, where every face centroid and neighbour is otherwise
+/// recomputed ~10 times (edge-midpoint and face-centre stencils overlap); Reset() forgets
+/// everything in O(1) and must be called after any change. Not thread-safe.
+class QuadMemo {
+ public:
+  explicit QuadMemo(const QuadMesh& m) : m_(&m) {}
+  /// Forgets all entries (and adapts to the mesh's current number of face slots).
+  void Reset();
+  const QuadMesh& Mesh() const { return *m_; }
+  const Vec3& Centroid(int f) const;
+  int AcrossEdge(int f, int k) const;
+  /// Number of memoized entries that differ from a fresh computation (test mode: must be 0).
+  int CountStale() const;
+
+ private:
+  void Adjacency(int f) const;
+  const QuadMesh* m_;
+  unsigned epoch_ = 1;
+  mutable std::vector<unsigned> cStamp_, aStamp_;
+  mutable std::vector<Vec3> cent_;
+  mutable std::vector<std::array<int, 4>> adj_;
+};
 
 /// Limit-position mask of control vertex v as (vertex, weight) pairs (weights sum to 1):
 /// interior valence n: (n^2 v + 4 sum e_j + sum f_j) / (n (n+5)) (e_j edge neighbours, f_j the
@@ -32,6 +58,8 @@ bool FaceCentreLimit(const QuadMesh& m, int f, Vec3* pos, Vec3* normal);
 /// Same, with the Catmull-Clark vertex points of the face's 4 corners supplied by the caller
 /// (VertexPoint), so that neighbouring faces share them.
 bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 vertexPoints[4], Vec3* pos, Vec3* normal);
+/// Same through a QuadMemo (identical arithmetic, memoized centroids and neighbours).
+bool FaceCentreLimit(const QuadMemo& m, int f, const Vec3 vertexPoints[4], Vec3* pos, Vec3* normal);
 /// Limit point (and, for an interior edge, unit normal) at the midpoint (u = 1/2 on the edge) of
 /// edge k (corner k -> corner k+1) of face f. One local Catmull-Clark step turns the edge point of
 /// an interior edge into a regular valence-4 vertex: limit (16 E + 4 (VP_a + VP_b + FP_f + FP_g)
@@ -41,9 +69,13 @@ bool FaceCentreLimit(const QuadMesh& m, int f, const Vec3 vertexPoints[4], Vec3*
 /// not written and *hasNormal (if given) is false. `vp` (optional) holds the vertex points of
 /// the face's 4 corners (VertexPoint). Returns false for a dead face or a degenerate normal.
 bool EdgeMidLimit(const QuadMesh& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal = nullptr);
+/// Same through a QuadMemo (identical arithmetic).
+bool EdgeMidLimit(const QuadMemo& m, int f, int k, const Vec3* vp, Vec3* pos, Vec3* normal, bool* hasNormal = nullptr);
 /// Catmull-Clark vertex point (one refinement step) of control vertex v: interior
 /// (Q + 2R + (n-3) v)/n, boundary (v_prev + 6 v + v_next)/8.
 Vec3 VertexPoint(const QuadMesh& m, int v);
+/// Same through a QuadMemo (identical arithmetic).
+Vec3 VertexPoint(const QuadMemo& m, int v);
 
 /// Outcome of an interpolation solve.
 struct InterpolationStats {

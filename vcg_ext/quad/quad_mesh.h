@@ -56,6 +56,8 @@ class QuadMesh {
   int NumFaces() const { return nFaces_; }
   int NumVertices() const { return nVerts_; }
   bool FaceAlive(int f) const { return faceAlive_[f] != 0; }
+  /// Itself (so that cc_limit's stencils take a QuadMesh or a QuadMemo alike).
+  const QuadMesh& Mesh() const { return *this; }
   bool VertAlive(int v) const { return vertAlive_[v] != 0; }
   bool IsBoundary(int v) const { return boundary_[v] != 0; }
   const std::vector<int>& VF(int v) const { return vf_[v]; }

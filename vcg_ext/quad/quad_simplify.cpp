@@ -152,10 +152,11 @@ class Simplifier {
     return true;
   }
 
+  // vp given: the corners' vertex points, during the checks of a step (memo_ valid)
   FaceInfo EvalFace(int f, const Vec3* vp = nullptr) const {
     FaceInfo fi;
     Vec3 n;
-    if (!(vp ? quad::FaceCentreLimit(K, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
+    if (!(vp ? quad::FaceCentreLimit(memo_, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
     if (!Project(fi.c, n, &fi, nullptr)) {
       // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
       EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
@@ -190,15 +191,16 @@ class Simplifier {
     return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(AtHit(M_, h));
   }
   // geometric guard on face g (its corners' vertex points vp): centre (info) and edge midpoints
-  // (each edge once: skipped when the neighbour also touches W and has the smaller index)
+  // (each edge once: skipped when the neighbour also touches W and has the smaller index).
+  // During the checks of a step (memo_ valid).
   bool FaceDeviationOk(int g, const Vec3 vp[4], const FaceInfo& fi) const {
     if (fi.hit < 0 || !fi.ok || fi.dist > DevTol(fi.M)) return false;
     for (int k = 0; k < 4; ++k) {
-      int h = K.AcrossEdge(g, k);
+      int h = memo_.AcrossEdge(g, k);
       if (h >= 0 && h < g && faceTouchesW(h)) continue;
       Vec3 pos, n;
       bool hasN = false;
-      if (!quad::EdgeMidLimit(K, g, k, vp, &pos, &n, &hasN)) return false;
+      if (!quad::EdgeMidLimit(memo_, g, k, vp, &pos, &n, &hasN)) return false;
       if (!SampleOk(pos, hasN ? &n : nullptr)) return false;
     }
     return true;
@@ -302,7 +304,7 @@ class Simplifier {
   // invalidated for R1_ at each commit); R1_'s are computed once per step (epoch cache).
   const Vec3& RegionVertexPoint(int x) {
     if (vmarkOf_[x] == vmark_) {  // in R1_ (the last CollectRing)
-      if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(K, x); }
+      if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(memo_, x); }
       return vp_[x];
     }
     if (!vpcOk_[x]) { vpc_[x] = quad::VertexPoint(K, x); vpcOk_[x] = 1; }
@@ -393,6 +395,13 @@ class Simplifier {
     }
   }
 
+  // Undoes the step being checked (test mode: after verifying the memo the checks used).
+  int Refuse(int code) {
+    if (p_.validateEveryOperation) memoStale_ += memo_.CountStale();
+    K.Rollback();
+    return code;
+  }
+
   // One simplification step: collapse + doublets + swaps + local fit, or nothing.
   // Returns 0 = done, 1 = topology refusal, 2 = flip refusal, 3 = geometric guard refusal.
   int Step(int f, int k) {
@@ -462,6 +471,7 @@ class Simplifier {
     std::vector<int> W;
     CollectRing(affected, W);
     LocalFit(W);
+    memo_.Reset();  // positions and connectivity are frozen from here to Commit/Rollback
     // flip test on everything whose limit changed: vertices of ring1(W) (their limit normal
     // depends on their 1-ring) and the faces incident to them (centre limit depends on the
     // corners' 1-rings); stops at the first element that agreed with the input and does not now
@@ -480,7 +490,7 @@ class Simplifier {
       bool inW = vmarkOfW(v);
       newVok_[i] = inW ? VertexOkAfterFit(v, lfTargets_[wIndex_[v]], lfHit_[wIndex_[v]], &newVhit_[i])
                        : VertexOkFast(v, &newVhit_[i]);
-      if (vok_[v] && !newVok_[i]) { K.Rollback(); return 2; }
+      if (vok_[v] && !newVok_[i]) return Refuse(2);
     }
     newInfo_.resize(region_.size());
     ++vpEpoch_;
@@ -497,12 +507,13 @@ class Simplifier {
       if (!touchesW && info_[g].ok && info_[g].hit >= 0) {
         FaceInfo fi = info_[g];
         Vec3 n;
-        if (quad::FaceCentreLimit(K, g, vp, &fi.c, &n) && FN_[fi.hit].dot(n) > 0) { newInfo_[i] = fi; done = true; }
+        if (quad::FaceCentreLimit(memo_, g, vp, &fi.c, &n) && FN_[fi.hit].dot(n) > 0) { newInfo_[i] = fi; done = true; }
       }
       if (!done) newInfo_[i] = EvalFace(g, vp);
-      if (info_[g].ok && !newInfo_[i].ok) { K.Rollback(); return 2; }
-      if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) { K.Rollback(); return 3; }
+      if (info_[g].ok && !newInfo_[i].ok) return Refuse(2);
+      if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) return Refuse(3);
     }
+    if (p_.validateEveryOperation) memoStale_ += memo_.CountStale();
     K.Commit();
     for (int v : R1_) vpcOk_[v] = 0;  // their committed vertex points changed
     for (int g : region_)
@@ -565,6 +576,7 @@ class Simplifier {
       if (p_.validateEveryOperation && r == 0) {
         std::string err = K.Check(&inv);
         if (err.empty() && vpcStale_ > 0) err = std::to_string(vpcStale_) + " stale cached vertex points";
+        if (err.empty() && memoStale_ > 0) err = std::to_string(memoStale_) + " stale memoized centroids/neighbours";
         if (!err.empty()) {
           res_.error = "internal error: invalid mesh after collapse " + std::to_string(res_.collapses) + ": " + err;
           return false;
@@ -664,7 +676,9 @@ class Simplifier {
   std::vector<unsigned> vpStamp_;
   std::vector<Vec3> vpc_;     ///< persistent vertex points (see RegionVertexPoint)
   std::vector<char> vpcOk_;
-  long vpcStale_ = 0;         ///< test mode: cached vertex points found stale (must stay 0)
+  long vpcStale_ = 0;
+  long memoStale_ = 0;        ///< test mode: memo_ entries found stale (must stay 0)
+  quad::QuadMemo memo_{K};    ///< centroids / neighbours during the checks of a step         ///< test mode: cached vertex points found stale (must stay 0)
   unsigned vpEpoch_ = 0;
   mutable std::vector<char> limOk_;
   std::vector<unsigned> stamp_;
