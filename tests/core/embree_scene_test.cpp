@@ -41,6 +41,74 @@ TEST(EmbreeScene, ClosestPointMatchesBruteForceOnSphere) {
   }
 }
 
+// NearestOnLine (the projection phi with fewer rays) against a brute-force double-precision
+// line/triangle search, on two nested spheres (several sheets on most lines), for every guess of
+// the side, several windows and ray lengths: the guess and the window may only change the ray
+// count, never the answer. Tolerance 1e-5: Embree works in float on coordinates of size 1.
+TEST(EmbreeScene, NearestOnLineMatchesBruteForceForAnyGuessAndWindow) {
+  auto outer = testsupport::Icosphere(3);
+  auto inner = testsupport::Icosphere(3);
+  vcgext::TriData m = outer;
+  const int off = int(m.V.size());
+  for (const Vec3& v : inner.V) m.V.push_back(0.93 * v);
+  for (const auto& f : inner.F) m.F.push_back({f[0] + off, f[2] + off, f[1] + off});
+  vcgext::EmbreeScene s(m);
+  ASSERT_TRUE(s.Ok()) << s.Error();
+  // nearest hit along +d (t >= 0) and along -d (t < 0) within maxDist; *tBest: the nearer one
+  auto brute = [&](const Vec3& c, const Vec3& d, double maxDist, double* tBest, double* gap) {
+    double tp = std::numeric_limits<double>::infinity(), tn = -tp;
+    for (const auto& f : m.F) {
+      const Vec3 &a = m.V[f[0]], &b = m.V[f[1]], &cc = m.V[f[2]];
+      Vec3 e1 = b - a, e2 = cc - a, p = d.cross(e2);
+      double det = e1.dot(p);
+      if (std::abs(det) < 1e-14) continue;
+      Vec3 tv = c - a;
+      double u = tv.dot(p) / det;
+      Vec3 q = tv.cross(e1);
+      double v = d.dot(q) / det;
+      if (u < -1e-12 || v < -1e-12 || u + v > 1 + 1e-12) continue;
+      double t = e2.dot(q) / det;
+      if (std::abs(t) > maxDist) continue;
+      if (t >= 0) tp = std::min(tp, t);
+      else tn = std::max(tn, t);
+    }
+    *tBest = tp <= -tn ? tp : tn;
+    *gap = std::abs(tp + tn);  // difference of the two sides' distances (ties are ambiguous)
+    return std::isfinite(*tBest);
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1), R(0.88, 1.04);
+  const double maxDists[] = {0.02, 0.3, 3.0};
+  const double windows[] = {0.0, 0.001, 0.01, 0.2};
+  int checked = 0;
+  for (int it = 0; it < 300; ++it) {
+    Vec3 dir(U(rng), U(rng), U(rng));
+    if (dir.norm() < 0.1) continue;
+    dir.normalize();
+    Vec3 c = R(rng) * dir;  // near the sheets
+    Vec3 d = it % 2 ? Vec3(dir + 0.3 * Vec3(U(rng), U(rng), U(rng))).normalized()
+                    : Vec3(U(rng), U(rng), U(rng)).normalized();
+    for (double maxDist : maxDists) {
+      double tRef = 0, gap = 0;
+      const bool ref = brute(c, d, maxDist, &tRef, &gap);
+      // skip the float-ambiguous cases: a hit at the end of the range, or a near tie of the sides
+      if (ref && (std::abs(std::abs(tRef) - maxDist) < 1e-5 || gap < 1e-5)) continue;
+      for (double w : windows)
+        for (int guess : {-1, 0, 1}) {
+          signed char side = static_cast<signed char>(guess);
+          auto h = s.NearestOnLine(c, d, maxDist, w, guess ? &side : nullptr);
+          ASSERT_EQ(h.valid, ref) << "it " << it << " maxDist " << maxDist << " window " << w << " guess " << guess;
+          if (!ref) continue;
+          EXPECT_NEAR(h.t, tRef, 1e-5) << "it " << it << " maxDist " << maxDist << " window " << w << " guess " << guess;
+          EXPECT_NEAR((h.point - (c + h.t * d)).norm(), 0.0, 1e-5);
+          if (guess) { EXPECT_EQ(side, h.t < 0 ? -1 : 1); }
+          ++checked;
+        }
+    }
+  }
+  EXPECT_GT(checked, 2000);
+}
+
 TEST(ImportTriangles, RejectsBadLayersAndLeavesThemUntouched) {
   vcgext::TMesh m;
   vcgext::TriData d;

@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace vcgext {
@@ -41,6 +42,7 @@ bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
+  eps_ = 1e-7 * BBoxDiagonal(mesh_.V);
   device_ = rtcNewDevice("threads=0");
   if (!device_) { error_ = "Embree: cannot create a device"; return; }
   rtcSetDeviceErrorFunction(device_, ErrorHandler, &error_);
@@ -110,6 +112,54 @@ EmbreeScene::Hit EmbreeScene::IntersectLine(const Vec3& org, const Vec3& dir, do
   Hit bwd = Intersect(org, -dir, 0.0, fwd.valid ? fwd.t : maxDist);
   if (bwd.valid) { bwd.t = -bwd.t; return bwd; }
   return fwd;
+}
+
+EmbreeScene::Hit EmbreeScene::NearestOnLine(const Vec3& c, const Vec3& dir, double maxDist, double window,
+                                            signed char* side) const {
+  const double s = (side && *side < 0) ? -1.0 : 1.0;
+  const Vec3 d = s * dir;  // the guessed side
+  const double eps = eps_;
+  // distance from c of a hit of a ray started a hair (eps) behind c
+  auto fromC = [&](Hit h) { h.t -= eps; return h; };
+  // the answer: h at distance `dist` from c on side sgn (of d); signed t along dir
+  auto answer = [&](Hit h, double dist, double sgn) {
+    h.t = s * sgn * dist;
+    if (side && h.valid) *side = h.t < 0 ? -1 : 1;
+    return h;
+  };
+  // nearer of a d-side hit (distance df) and a -d-side hit (db); equal: the +dir one. Distances
+  // of rays started behind c can be slightly negative (a surface through c): compared by size.
+  auto nearer = [&](const Hit& f, double df, const Hit& b, double db) {
+    if (!f.valid) return answer(b, db, -1);
+    if (!b.valid) return answer(f, df, 1);
+    const double af = std::abs(df), ab = std::abs(db);
+    if (af < ab || (af == ab && s > 0)) return answer(f, df, 1);
+    return answer(b, db, -1);
+  };
+  const double T = std::min(std::max(window, 0.0), maxDist);
+  if (T > 0) {
+    Hit w = Intersect(c - T * d, d, 0.0, T + maxDist);
+    if (w.valid) {
+      const double s1 = w.t - T;  // offset of the first hit in [-T, maxDist] along d
+      if (s1 >= 0 && s1 <= T) return answer(w, s1, 1);  // nothing on the -d side within T >= s1
+      if (s1 > T) {  // -d side: only hits farther than T can beat it
+        Hit b = fromC(Intersect(c + eps * d, -d, 0.0, s1 + 2 * eps));
+        return nearer(w, s1, b, b.valid ? b.t : 0.0);
+      }
+      // a hit on the -d side within T: its nearest one, then the d side up to it
+      Hit b = fromC(Intersect(c + eps * d, -d, 0.0, -s1 + 2 * eps));
+      if (!b.valid) { b = w; b.t = -s1; }
+      Hit f = fromC(Intersect(c - eps * d, d, 0.0, b.t + 2 * eps));
+      return nearer(f, f.valid ? f.t : 0.0, b, b.t);
+    }
+    // nothing in [-T, maxDist] along d: the -d side beyond T decides
+    Hit b = fromC(Intersect(c + eps * d, -d, 0.0, maxDist + eps));
+    return answer(b, b.valid ? b.t : 0.0, -1);
+  }
+  // no window: the two rays of the plain query (the second one only needs to beat the first)
+  Hit f = fromC(Intersect(c - eps * d, d, 0.0, maxDist + eps));
+  Hit b = fromC(Intersect(c + eps * d, -d, 0.0, f.valid ? f.t + 3 * eps : maxDist + eps));
+  return nearer(f, f.valid ? f.t : 0.0, b, b.valid ? b.t : 0.0);
 }
 
 EmbreeScene::Hit EmbreeScene::ClosestPoint(const Vec3& p, double maxDist) const {

@@ -41,6 +41,16 @@ class EmbreeScene {
   /// (`dir` unit): the paper's projection phi "along the normal", either side.
   Hit IntersectLine(const Vec3& org, const Vec3& dir,
                     double maxDist = std::numeric_limits<double>::infinity()) const;
+  /// Same query as the projection phi along the normal, fewer rays: the nearest hit on the line
+  /// through `c` along ±dir (`dir` unit), |t| <= maxDist, ties to +dir (up to float rounding).
+  /// A surface through c is found. `side` (in/out, optional) is a guess of the side of the
+  /// answer (+1 along dir, -1 against), updated with the side found; `window` > 0 is the
+  /// distance within which the answer is usually found. One ray from c - window·side·dir covers
+  /// both sides near c: when its first hit lies on the guessed side within the window, it is the
+  /// answer (1 ray instead of 2); otherwise 1 or 2 more rays settle it. The result does not depend
+  /// on the guess or the window (tests/core: brute-force comparison); only the ray count does.
+  Hit NearestOnLine(const Vec3& c, const Vec3& dir, double maxDist, double window,
+                    signed char* side = nullptr) const;
   /// Closest point on the surface within `maxDist` (Embree point query).
   Hit ClosestPoint(const Vec3& p, double maxDist = std::numeric_limits<double>::infinity()) const;
 
@@ -48,6 +58,7 @@ class EmbreeScene {
 
  private:
   TriData mesh_;
+  double eps_ = 0;  ///< 1e-7 x bbox diagonal: rays from a point start this far behind it
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
   std::string error_;

@@ -97,6 +97,7 @@ class Simplifier {
       : in_(in), scene_(scene), S_(S), M_(M), p_(p), res_(res) {
     diag_ = BBoxDiagonal(in.V);
     maxDist_ = p.projectionPercent / 100.0 * diag_;
+    window_ = 0.005 * diag_;
     for (double m : M) if (std::isfinite(m)) maxM_ = std::max(maxM_, m);
     tol_ = p.solveTolPercent / 100.0 * diag_;
     FN_ = FaceNormals(in);
@@ -123,23 +124,15 @@ class Simplifier {
 
   QuadMesh K;
 
-  // projection phi along the line (either side) with fallback to nothing
-  // Nearest hit on the line through c along +-n within maxDist_. Both rays start a hair behind c
-  // so that a surface passing exactly through c (flat regions) is found reliably.
-  EmbreeScene::Hit LineHit(const Vec3& c, const Vec3& n, double maxDist = -1) const {
-    const double eps = 1e-7 * diag_;
-    if (maxDist < 0) maxDist = maxDist_;
-    EmbreeScene::Hit f = scene_.Intersect(c - eps * n, n, 0.0, maxDist + eps);
-    // the backward ray only needs to beat the forward hit (shorter rays traverse less)
-    EmbreeScene::Hit b = scene_.Intersect(c + eps * n, -n, 0.0, f.valid ? f.t + 2 * eps : maxDist + eps);
-    if (f.valid) f.t -= eps;
-    if (b.valid) b.t = -(b.t - eps);
-    if (f.valid && b.valid) return std::abs(f.t) <= std::abs(b.t) ? f : b;
-    return f.valid ? f : b;
+  // projection phi along the line (either side), nearest hit within maxDist (default maxDist_).
+  // `side`: where the input probably is (see EmbreeScene::NearestOnLine: 1 ray instead of 2 when
+  // the guess is right and nothing else lies within window_; the answer never depends on it).
+  EmbreeScene::Hit LineHit(const Vec3& c, const Vec3& n, double maxDist = -1, signed char* side = nullptr) const {
+    return scene_.NearestOnLine(c, n, maxDist < 0 ? maxDist_ : maxDist, window_, side);
   }
 
-  bool Project(const Vec3& c, const Vec3& n, FaceInfo* fi, Vec3* point) const {
-    EmbreeScene::Hit h = LineHit(c, n);
+  bool Project(const Vec3& c, const Vec3& n, FaceInfo* fi, Vec3* point, signed char* side = nullptr) const {
+    EmbreeScene::Hit h = LineHit(c, n, -1, side);
     if (!h.valid) return false;
     if (fi) {
       fi->S = AtHit(S_, h);
@@ -157,7 +150,7 @@ class Simplifier {
     FaceInfo fi;
     Vec3 n;
     if (!(vp ? quad::FaceCentreLimit(memo_, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
-    if (!Project(fi.c, n, &fi, nullptr)) {
+    if (!Project(fi.c, n, &fi, nullptr, FSide(f))) {
       // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
       EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
       if (h.valid) {
@@ -181,13 +174,13 @@ class Simplifier {
   }
   // geometric guard on one limit sample: projects along its normal onto the input, agreeing
   // normals, within DevTol; boundary samples (no normal): closest point within DevTol
-  bool SampleOk(const Vec3& pos, const Vec3* n) const {
+  bool SampleOk(const Vec3& pos, const Vec3* n, signed char* side) const {
     if (!n) {
       EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
       return h.valid && (h.point - pos).norm() <= DevTol(AtHit(M_, h));
     }
     // no hit beyond the largest possible tolerance can pass: shorter rays traverse less
-    EmbreeScene::Hit h = LineHit(pos, *n, std::min(maxDist_, DevTol(maxM_)));
+    EmbreeScene::Hit h = LineHit(pos, *n, std::min(maxDist_, DevTol(maxM_)), side);
     return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(AtHit(M_, h));
   }
   // geometric guard on face g (its corners' vertex points vp): centre (info) and edge midpoints
@@ -195,13 +188,14 @@ class Simplifier {
   // During the checks of a step (memo_ valid).
   bool FaceDeviationOk(int g, const Vec3 vp[4], const FaceInfo& fi) const {
     if (fi.hit < 0 || !fi.ok || fi.dist > DevTol(fi.M)) return false;
+    signed char side = FSide(g) ? *FSide(g) : 1;  // guess: the edge midpoints lie on the centre's side
     for (int k = 0; k < 4; ++k) {
       int h = memo_.AcrossEdge(g, k);
       if (h >= 0 && h < g && faceTouchesW(h)) continue;
       Vec3 pos, n;
       bool hasN = false;
       if (!quad::EdgeMidLimit(memo_, g, k, vp, &pos, &n, &hasN)) return false;
-      if (!SampleOk(pos, hasN ? &n : nullptr)) return false;
+      if (!SampleOk(pos, hasN ? &n : nullptr, &side)) return false;
     }
     return true;
   }
@@ -217,7 +211,7 @@ class Simplifier {
     if (!K.VertAlive(v) || K.IsBoundary(v)) return true;
     Vec3 pos, n;
     if (!quad::VertexLimitFrame(K, v, &pos, &n)) return false;
-    EmbreeScene::Hit h = LineHit(pos, n);
+    EmbreeScene::Hit h = LineHit(pos, n, -1, VSide(v));
     if (hitFace && h.valid) *hitFace = h.face;
     return h.valid && FN_[h.face].dot(n) > 0;
   }
@@ -266,7 +260,7 @@ class Simplifier {
     if (K.IsBoundary(v)) return BoundaryTarget(quad::VertexLimit(K, v));
     Vec3 pos, n;
     if (!quad::VertexLimitFrame(K, v, &pos, &n)) return quad::VertexLimit(K, v);
-    EmbreeScene::Hit hl = LineHit(pos, n);
+    EmbreeScene::Hit hl = LineHit(pos, n, -1, VSide(v));
     if (hl.valid) {
       if (hitFace) *hitFace = hl.face;
       return hl.point;
@@ -295,6 +289,9 @@ class Simplifier {
     return lim_[v];
   }
 
+  // side guesses for LineHit per vertex / face slot (the side of its last projection)
+  signed char* VSide(int v) const { return v < int(vside_.size()) ? &vside_[v] : nullptr; }
+  signed char* FSide(int f) const { return f < int(fside_.size()) ? &fside_[f] : nullptr; }
   bool vmarkOfW(int v) const { return wmarkOf_[v] == wmark_; }
 
   // Catmull-Clark vertex point of a corner of a checked face, during Step. It depends on the
@@ -532,6 +529,8 @@ class Simplifier {
   bool Run(Progress& prog) {
     const int nf = K.NumFaceSlots(), nv = K.NumVertexSlots();
     info_.assign(nf, FaceInfo());
+    vside_.assign(nv, 1);
+    fside_.assign(nf, 1);
     stamp_.assign(nf, 0);
     fmarkOf_.assign(nf, 0);
     vmarkOf_.assign(nv, 0);
@@ -659,7 +658,10 @@ class Simplifier {
   const QuadSimplifyParams& p_;
   QuadSimplifyResult& res_;
   double diag_ = 1, maxDist_ = 1, tol_ = 1e-9;
-  double maxM_ = 0;  ///< largest M-fitmap value (bounds the guard's ray length)
+  double maxM_ = 0;
+  /// LineHit's window: 0.5 % of the diagonal covers the limit surface's usual distance to the
+  /// input during simplification (bunny00: the first ray settles 73 % of the queries)
+  double window_ = 0;  ///< largest M-fitmap value (bounds the guard's ray length)
   std::vector<Vec3> FN_;
   std::vector<std::pair<int, int>> bseg_;
   std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
@@ -681,6 +683,7 @@ class Simplifier {
   quad::QuadMemo memo_{K};    ///< centroids / neighbours during the checks of a step         ///< test mode: cached vertex points found stale (must stay 0)
   unsigned vpEpoch_ = 0;
   mutable std::vector<char> limOk_;
+  mutable std::vector<signed char> vside_, fside_;  ///< see VSide / FSide
   std::vector<unsigned> stamp_;
   std::vector<unsigned> fmarkOf_, vmarkOf_;
   unsigned fmark_ = 0, vmark_ = 0;
