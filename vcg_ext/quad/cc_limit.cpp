@@ -11,6 +11,32 @@ namespace quad {
 
 namespace {
 thread_local std::vector<Wedge> tlFan;
+
+// cos / sin of 2*pi*i/n for i = 0..n and the constants of the tangent masks, per valence n <
+// kMaxTab (the same expressions as computed inline, so the values are bit-identical)
+constexpr int kMaxTab = 33;
+double FillTangents(int n, std::vector<double>& c, std::vector<double>& s) {
+  const double nn = double(n);
+  c.clear();
+  s.clear();
+  for (int i = 0; i <= n; ++i) {
+    c.push_back(std::cos(2 * M_PI * i / nn));
+    s.push_back(std::sin(2 * M_PI * i / nn));
+  }
+  const double c2 = std::cos(2 * M_PI / nn);
+  return 1.0 + c2 + std::cos(M_PI / nn) * std::sqrt(2.0 * (9.0 + c2));  // A of the tangent masks
+}
+struct TangentTable {
+  std::vector<double> c[kMaxTab], s[kMaxTab];
+  double A[kMaxTab] = {};
+  TangentTable() {
+    for (int n = 1; n < kMaxTab; ++n) A[n] = FillTangents(n, c[n], s[n]);
+  }
+};
+const TangentTable& Tangents() {
+  static const TangentTable t;
+  return t;
+}
 }
 
 bool VertexLimitMask(const QuadMesh& m, int v, std::vector<std::pair<int, double>>& mask) {
@@ -55,15 +81,26 @@ bool VertexLimitFrame(const QuadMesh& m, int v, Vec3* pos, Vec3* normal) {
   p /= nn * (nn + 5.0);
   if (pos) *pos = p;
   // e_i = w[i].n, f_i (between e_i and e_{i+1}) = w[i+1].o; the walk is clockwise.
-  const double c2 = std::cos(2 * M_PI / nn);
-  const double A = 1.0 + c2 + std::cos(M_PI / nn) * std::sqrt(2.0 * (9.0 + c2));
+  thread_local std::vector<double> bigC, bigS;  // valences beyond the table (never in practice)
+  const double* cs;
+  const double* sn;
+  double A;
+  if (n < kMaxTab) {
+    const TangentTable& tab = Tangents();
+    A = tab.A[n];
+    cs = tab.c[n].data();
+    sn = tab.s[n].data();
+  } else {
+    A = FillTangents(n, bigC, bigS);
+    cs = bigC.data();
+    sn = bigS.data();
+  }
   Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();
   for (int i = 0; i < n; ++i) {
-    double a0 = 2 * M_PI * i / nn, a1 = 2 * M_PI * (i + 1) / nn;
     const Vec3& e = m.P[w[i].n];
     const Vec3& f = m.P[w[(i + 1) % n].o];
-    t1 += A * std::cos(a0) * e + (std::cos(a0) + std::cos(a1)) * f;
-    t2 += A * std::sin(a0) * e + (std::sin(a0) + std::sin(a1)) * f;
+    t1 += A * cs[i] * e + (cs[i] + cs[i + 1]) * f;
+    t2 += A * sn[i] * e + (sn[i] + sn[i + 1]) * f;
   }
   Vec3 nr = t2.cross(t1);  // clockwise walk: t2 x t1 follows the faces' orientation
   double l = nr.norm();
