@@ -131,17 +131,15 @@ class Simplifier {
     return scene_.NearestOnLine(c, n, maxDist < 0 ? maxDist_ : maxDist, window_, side);
   }
 
-  bool Project(const Vec3& c, const Vec3& n, FaceInfo* fi, Vec3* point, signed char* side = nullptr) const {
+  // projects a face centre c (limit normal n) and fills fi's hit fields; false: no hit
+  bool Project(const Vec3& c, const Vec3& n, FaceInfo& fi, signed char* side) const {
     EmbreeScene::Hit h = LineHit(c, n, -1, side);
     if (!h.valid) return false;
-    if (fi) {
-      fi->S = AtHit(S_, h);
-      fi->M = AtHit(M_, h);
-      fi->ok = FN_[h.face].dot(n) > 0;
-      fi->hit = h.face;
-      fi->dist = std::abs(h.t);
-    }
-    if (point) *point = h.point;
+    fi.S = AtHit(S_, h);
+    fi.M = AtHit(M_, h);
+    fi.ok = FN_[h.face].dot(n) > 0;
+    fi.hit = h.face;
+    fi.dist = std::abs(h.t);
     return true;
   }
 
@@ -150,7 +148,7 @@ class Simplifier {
     FaceInfo fi;
     Vec3 n;
     if (!(vp ? quad::FaceCentreLimit(memo_, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
-    if (!Project(fi.c, n, &fi, nullptr, FSide(f))) {
+    if (!Project(fi.c, n, fi, FSide(f))) {
       // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
       EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
       if (h.valid) {
@@ -179,7 +177,7 @@ class Simplifier {
       EmbreeScene::Hit h = scene_.ClosestPoint(pos, maxDist_);
       return h.valid && (h.point - pos).norm() <= DevTol(AtHit(M_, h));
     }
-    // no hit beyond the largest possible tolerance can pass: shorter rays traverse less
+    // no hit beyond the largest possible tolerance can pass
     EmbreeScene::Hit h = LineHit(pos, *n, std::min(maxDist_, DevTol(maxM_)), side);
     return h.valid && FN_[h.face].dot(*n) > 0 && std::abs(h.t) <= DevTol(AtHit(M_, h));
   }
@@ -658,10 +656,10 @@ class Simplifier {
   const QuadSimplifyParams& p_;
   QuadSimplifyResult& res_;
   double diag_ = 1, maxDist_ = 1, tol_ = 1e-9;
-  double maxM_ = 0;
+  double maxM_ = 0;  ///< largest M-fitmap value (bounds the guard's ray length)
   /// LineHit's window: 0.5 % of the diagonal covers the limit surface's usual distance to the
   /// input during simplification (bunny00: the first ray settles 73 % of the queries)
-  double window_ = 0;  ///< largest M-fitmap value (bounds the guard's ray length)
+  double window_ = 0;
   std::vector<Vec3> FN_;
   std::vector<std::pair<int, int>> bseg_;
   std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
@@ -678,9 +676,9 @@ class Simplifier {
   std::vector<unsigned> vpStamp_;
   std::vector<Vec3> vpc_;     ///< persistent vertex points (see RegionVertexPoint)
   std::vector<char> vpcOk_;
-  long vpcStale_ = 0;
+  long vpcStale_ = 0;         ///< test mode: cached vertex points found stale (must stay 0)
   long memoStale_ = 0;        ///< test mode: memo_ entries found stale (must stay 0)
-  quad::QuadMemo memo_{K};    ///< centroids / neighbours during the checks of a step         ///< test mode: cached vertex points found stale (must stay 0)
+  quad::QuadMemo memo_{K};    ///< centroids / neighbours during the checks of a step
   unsigned vpEpoch_ = 0;
   mutable std::vector<char> limOk_;
   mutable std::vector<signed char> vside_, fside_;  ///< see VSide / FSide
