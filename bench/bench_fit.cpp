@@ -114,13 +114,17 @@ int main(int argc, char** argv) {
     else if (k == "sw") p.fit.sampleWeight = v;
     else if (k == "smooth") p.fit.smoothWeight = v;
     else if (k == "fps") p.fit.footpointSegments = int(v);
+    else if (k == "dfit") p.fitDisplacement = v != 0;
+    else if (k == "N") p.limitSegments = int(v);
+    else if (k == "danchor") p.displacementFit.anchorWeight = v;
+    else if (k == "diters") p.displacementFit.iterations = int(v);
     else if (k == "method") p.fit.method = v == 0 ? FitMethod::PointToPoint : FitMethod::TangentDistance;
     else { std::fprintf(stderr, "unknown option %s\n", k.c_str()); return 2; }
   }
   if (pos.size() < 2) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
-                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] "
+                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [dfit=0|1 least-squares displacement] [danchor=anchor weight] [diters=rounds] "
                  "[method=0 point-to-point | 1 tangent distance]\n",
                  argv[0]);
     return 2;
@@ -169,6 +173,11 @@ int main(int argc, char** argv) {
     std::printf("\n  reference->limit RMS per iteration:");
     for (double e : last.fit.dataRmsPerIteration) std::printf(" %.3g", e);
   }
+  std::printf("\n  displaced, area-weighted: reference -> displaced RMS %.4f, displaced -> reference RMS %.4f max %.4f permille",
+              m.rmsDisplacedAreaPermille, m.rmsDisplacedToRefPermille, m.maxDisplacedToRefPermille);
+  if (last.displacementFit.fitted)
+    std::printf("\n  displacement fit: %d round(s), reference->displaced RMS %.4g -> %.4g (unquantized)",
+                last.displacementFit.iterations, last.displacementFit.rmsBefore, last.displacementFit.rmsAfter);
   std::printf(" (setup %.3f, factor %.3f, project %.3f, solve %.3f s)\n", last.fit.secondsSetup,
               last.fit.secondsFactor, last.fit.secondsProject, last.fit.secondsSolve);
   if (!outdir.empty()) {

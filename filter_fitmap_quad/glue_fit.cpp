@@ -31,6 +31,11 @@ void InitFitParams(MeshDocument& md, RichParameterList& par) {
                        "samples about the number of reference vertices, as in the paper)."));
   par.addParam(RichBool(param::kNormalMap, d.normalMap, "Bake normal map",
                         "Also write an object-space normal map in the same atlas layout."));
+  par.addParam(RichBool(param::kFitDisplacement, d.fitDisplacement, "Least-squares displacement",
+                        "Texel values fitted so that the displaced surface passes closest to the "
+                        "reference vertices (about half the displaced error of the paper's point "
+                        "samples at the same texture size). Off: each texel is the distance along "
+                        "the limit normal at its point (paper section 4)."));
   par.addParam(RichFloat(param::kMaxDistPerc, float(d.maxDistPercent), "Max distance (% of bbox diagonal)",
                          "Largest projection / displacement distance along the limit normal."));
   par.addParam(RichInt(param::kFitIterations, d.fit.maxIterations, "Fit iterations",
@@ -72,6 +77,7 @@ bool ApplyFit(GlueContext& ctx) {
   p.limitSegments = ctx.par.getInt(param::kLimitSegments);
   p.textureResolution = ctx.par.getInt(param::kTextureResolution);
   p.normalMap = ctx.par.getBool(param::kNormalMap);
+  p.fitDisplacement = ctx.par.getBool(param::kFitDisplacement);
   p.maxDistPercent = ctx.par.getFloat(param::kMaxDistPerc);
   p.fit.maxIterations = ctx.par.getInt(param::kFitIterations);
   p.fit.smoothWeight = ctx.par.getFloat(param::kSmoothWeight);

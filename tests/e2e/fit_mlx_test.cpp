@@ -131,39 +131,65 @@ std::string FitScriptWith(const std::string& dir, const std::string& name, const
   return path;
 }
 
-// "Control cage smoothing" (smoothWeight, docs/fit.md "Control cage"): a control-net Laplacian
-// term trades limit error for a calmer net. Same foreign cube-sphere control mesh as above,
-// fitted to a bumpy sphere, with the term off and on; each fit writes its own output folder.
-TEST(MlxScripts, FitAndBakeCageSmoothingCalmsTheControlMesh) {
-  const std::string dir = e2e::OutPath("fit_smooth");
-  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+// A bumpy sphere r = 1 + 0.05 sin(5x) sin(5y) sin(5z) (detail the fit chases) and a foreign
+// cube-sphere control mesh in `dir`; fit_and_bake.mlx runs with `name` = `value` in its own
+// sub-folder. Returns the output folder (report.json, control.obj, ...) or "" on failure.
+std::string FitBumpySphereWith(const std::string& dir, const std::string& name, const std::string& value) {
+  if (e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode != 0) return "";
+  const std::string control = dir + "/control.ply";
+  if (!std::ifstream(control) && vcgext::WriteQuadPly(control, CubeSphere(4)) != "") return "";
   vcgext::TMesh ref;
   testsupport::ToVcg(testsupport::Icosphere(5), ref);
-  for (auto& v : ref.vert) {  // r = 1 + 0.05 sin(5x) sin(5y) sin(5z): detail the fit chases
+  for (auto& v : ref.vert) {
     vcgext::Vec3 p(v.cP()[0], v.cP()[1], v.cP()[2]);
     double r = 1.0 + 0.05 * std::sin(5 * p[0]) * std::sin(5 * p[1]) * std::sin(5 * p[2]);
     v.P() = vcg::Point3f(float(r * p[0]), float(r * p[1]), float(r * p[2]));
   }
-  ASSERT_EQ(vcgext::WriteQuadPly(dir + "/control.ply", CubeSphere(4)), "");
+  const std::string sub = dir + "/" + name + "_" + value;
+  if (e2e::Run("mkdir -p " + e2e::Q(sub)).exitCode != 0 || vcgext::SaveMesh(sub + "/bumpy.off", ref) != "") return "";
+  auto r = e2e::Meshlabserver("-i " + e2e::Q(sub + "/bumpy.off") + " -i " + e2e::Q(control) + " -o " +
+                              e2e::Q(sub + "/limit.ply") + " -l 3 -s " + e2e::Q(FitScriptWith(dir, name, value)));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  return r.exitCode == 0 ? sub + "/bumpy_cc" : "";
+}
+
+// "Control cage smoothing" (smoothWeight, docs/fit.md "Control cage"): a control-net Laplacian
+// term trades limit error for a calmer net: the fit with the term off and on.
+TEST(MlxScripts, FitAndBakeCageSmoothingCalmsTheControlMesh) {
+  const std::string dir = e2e::OutPath("fit_smooth");
   double lap[2], rms[2];
   const char* weights[2] = {"0", "1"};
   for (int i = 0; i < 2; ++i) {
-    const std::string sub = dir + "/w" + weights[i];
-    ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(sub)).exitCode, 0);
-    ASSERT_EQ(vcgext::SaveMesh(sub + "/bumpy.off", ref), "");
-    auto r = e2e::Meshlabserver("-i " + e2e::Q(sub + "/bumpy.off") + " -i " + e2e::Q(dir + "/control.ply") +
-                                " -o " + e2e::Q(sub + "/limit.ply") + " -l 3 -s " +
-                                e2e::Q(FitScriptWith(dir, "smoothWeight", weights[i])));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    const std::string json = e2e::Slurp(sub + "/bumpy_cc/report.json");
+    const std::string out = FitBumpySphereWith(dir, "smoothWeight", weights[i]);
+    ASSERT_FALSE(out.empty());
+    const std::string json = e2e::Slurp(out + "/report.json");
     rms[i] = JsonNumber(json, "rms_limit_permille");
-    lap[i] = MeanCageLaplacian(sub + "/bumpy_cc/control.obj");
+    lap[i] = MeanCageLaplacian(out + "/control.obj");
     ASSERT_TRUE(std::isfinite(rms[i]) && std::isfinite(lap[i])) << json;
   }
   // The penalized minimizer has a smaller penalty and a larger data error than the unpenalized
   // one (a property of adding a convex term); μ = 1 is strong, so both changes are clear.
   EXPECT_LT(lap[1], 0.9 * lap[0]) << lap[0] << " -> " << lap[1];
   EXPECT_GT(rms[1], rms[0]) << rms[0] << " -> " << rms[1];
+}
+
+// "Least-squares displacement" (fitDisplacement, docs/fit.md "Bake"): the same fit, the texels
+// point-sampled (paper) or fitted; the report says which, and the fitted displaced surface is
+// clearly closer to the reference while the limit is the same.
+TEST(MlxScripts, FitAndBakeLeastSquaresDisplacementBeatsPointSamples) {
+  const std::string dir = e2e::OutPath("fit_dfit");
+  double disp[2], lim[2];
+  const char* values[2] = {"false", "true"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string out = FitBumpySphereWith(dir, "fitDisplacement", values[i]);
+    ASSERT_FALSE(out.empty());
+    const std::string json = e2e::Slurp(out + "/report.json");
+    EXPECT_NE(json.find(std::string("\"displacement_fit\": ") + values[i]), std::string::npos) << json;
+    disp[i] = JsonNumber(json, "rms_displaced_permille");
+    lim[i] = JsonNumber(json, "rms_limit_permille");
+  }
+  EXPECT_DOUBLE_EQ(lim[0], lim[1]);
+  EXPECT_LT(disp[1], 0.7 * disp[0]) << disp[0] << " -> " << disp[1];
 }
 
 TEST(MlxScripts, FitAndBakeRejectsNegativeCageSmoothing) {

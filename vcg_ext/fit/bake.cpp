@@ -11,6 +11,7 @@
 
 #include "vcg_ext/core/progress.h"
 #include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
 
 #include "vcg_ext/fit/fit_internal.h"
 
@@ -31,7 +32,9 @@ LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3
   // Vertex ids: control corners shared, edge points shared per undirected edge, interiors own.
   std::vector<int> cornerId(ls.NumVertices(), -1);
   std::unordered_map<std::uint64_t, int> edgeBase;  // first id of the N-1 interior points of edge (a<b)
-  std::vector<int> gridId(size_t(nF) * (N + 1) * (N + 1));
+  t.N = N;
+  std::vector<int>& gridId = t.grid;
+  gridId.resize(size_t(nF) * (N + 1) * (N + 1));
   auto addVertex = [&](int f, double u, double v) {
     t.face.push_back(f);
     t.uv.emplace_back(u, v);
@@ -119,6 +122,29 @@ int AutoTextureResolution(int referenceVertices, int patches) {
   return std::max(kMinAutoTextureResolution, int(std::lround(std::sqrt(double(referenceVertices) / patches))));
 }
 
+namespace {
+// 16-bit quantization over the tiles actually used: disp ≈ offset + scale · q16.
+void Quantize(DisplacementAtlas& a, int nF) {
+  const int R = a.R;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int f = 0; f < nF; ++f) {
+    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i) {
+        double d = a.disp[size_t(y0 + j) * a.width + x0 + i];
+        lo = std::min(lo, d);
+        hi = std::max(hi, d);
+      }
+  }
+  a.offset = lo;
+  a.scale = hi > lo ? (hi - lo) / 65535.0 : 0.0;
+  a.q16.assign(a.disp.size(), 0);
+  for (size_t k = 0; k < a.disp.size(); ++k)
+    if (a.scale > 0)
+      a.q16[k] = std::uint16_t(std::clamp(std::lround((a.disp[k] - lo) / a.scale), 0L, 65535L));
+}
+}  // namespace
+
 DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                                    const EmbreeScene& scene, int R, double maxDist, bool normalMap) {
   DisplacementAtlas a;
@@ -167,23 +193,7 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
       }
   }
   a.misses = misses;
-  // Quantization range over the tiles actually used.
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (int f = 0; f < nF; ++f) {
-    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
-    for (int j = 0; j < R; ++j)
-      for (int i = 0; i < R; ++i) {
-        double d = a.disp[size_t(y0 + j) * a.width + x0 + i];
-        lo = std::min(lo, d);
-        hi = std::max(hi, d);
-      }
-  }
-  a.offset = lo;
-  a.scale = hi > lo ? (hi - lo) / 65535.0 : 0.0;
-  a.q16.assign(a.disp.size(), 0);
-  for (size_t k = 0; k < a.disp.size(); ++k)
-    if (a.scale > 0)
-      a.q16[k] = std::uint16_t(std::clamp(std::lround((a.disp[k] - lo) / a.scale), 0L, 65535L));
+  Quantize(a, nF);
   // Wedge UVs at the corner texels' centres; v up (OpenGL / OBJ / MeshLab), image row 0 on top.
   a.wedgeUV.resize(nF);
   const int cu[4] = {0, 1, 1, 0}, cvv[4] = {0, 0, 1, 1};
@@ -195,6 +205,126 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
     }
   }
   return a;
+}
+
+DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
+                                     int minSegments, const DisplacementFitParams& p, DisplacementAtlas& a) {
+  DisplacementFitStats st;
+  const int nF = ls.NumFaces();
+  if (!ls.Ok() || nF == 0 || a.R < 2 || ref.V.empty() || p.iterations < 1 || !(p.anchorWeight > 0)) return st;
+  const int T = a.R - 1, Nd = std::max(T, minSegments);
+  // The displaced layer's base tessellation (what DisplacedSurface displaces) and the welded
+  // texel numbering (texels on shared tile edges/corners are one unknown, so tiles stay seamless).
+  const LimitTessellation base = TessellateLimit(ls, ctrl, Nd);
+  LimitTessellation texGrid;
+  if (Nd != T) texGrid = TessellateLimit(ls, ctrl, T);
+  const LimitTessellation& tex = Nd == T ? base : texGrid;
+  const int nX = int(tex.mesh.V.size()), nB = int(base.mesh.V.size());
+  // Point-sampled (ray) values: the anchor of every texel.
+  Eigen::VectorXd d0(nX);
+  for (int f = 0; f < nF; ++f) {
+    const int x0 = (f % a.cols) * a.R, y0 = (f / a.cols) * a.R;
+    for (int j = 0; j <= T; ++j)
+      for (int i = 0; i <= T; ++i) d0[tex.GridId(f, i, j)] = a.disp[size_t(y0 + j) * a.width + x0 + i];
+  }
+  // Each base vertex's displacement = bilinear filter of its tile (as DisplacedSurface does).
+  std::vector<std::array<int, 4>> bt(nB);
+  std::vector<std::array<double, 4>> bw(nB);
+  for (int k = 0; k < nB; ++k) {
+    const double x = std::clamp(base.uv[k][0], 0.0, 1.0) * T, y = std::clamp(base.uv[k][1], 0.0, 1.0) * T;
+    const int i = std::min(int(x), T - 1), j = std::min(int(y), T - 1), f = base.face[k];
+    const double fx = x - i, fy = y - j;
+    bt[k] = {tex.GridId(f, i, j), tex.GridId(f, i + 1, j), tex.GridId(f, i, j + 1), tex.GridId(f, i + 1, j + 1)};
+    bw[k] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+  }
+  Eigen::VectorXd d = d0;
+  auto displacedMesh = [&](const Eigen::VectorXd& dv) {
+    TriData m;
+    m.F = base.mesh.F;
+    m.V.resize(nB);
+    for (int k = 0; k < nB; ++k) {
+      double s = 0;
+      for (int q = 0; q < 4; ++q) s += bw[k][q] * dv[bt[k][q]];
+      m.V[k] = base.mesh.V[k] + s * base.normal[k];
+    }
+    return m;
+  };
+  const int nR = int(ref.V.size());
+  constexpr int kMaxRow = 12;  // 3 triangle corners × 4 bilinear texels
+  std::vector<std::array<int, kMaxRow>> rowIdx(nR);
+  std::vector<std::array<double, kMaxRow>> rowW(nR);
+  std::vector<int> rowLen(nR);
+  Eigen::VectorXd rhs0(nR), dist(nR);
+  Eigen::VectorXd best = d;
+  double bestRms = std::numeric_limits<double>::infinity();
+  for (int it = 0; it <= p.iterations; ++it) {
+    // Foot points on the current displaced mesh: exactly the reported error's closest points.
+    const TriData dm = displacedMesh(d);
+    EmbreeScene scene(dm);
+    if (!scene.Ok()) break;
+#pragma omp parallel for schedule(static)
+    for (int r = 0; r < nR; ++r) {
+      const Vec3& x = ref.V[r];
+      const EmbreeScene::Hit h = scene.ClosestPoint(x);
+      rowLen[r] = 0;
+      dist[r] = h.valid ? (h.point - x).norm() : 0.0;
+      if (!h.valid) continue;
+      const auto& tri = dm.F[h.face];
+      const double b[3] = {1 - h.u - h.v, h.u, h.v};
+      Vec3 m = (dm.V[tri[1]] - dm.V[tri[0]]).cross(dm.V[tri[2]] - dm.V[tri[0]]);
+      if (!(m.norm() > 0)) m = b[0] * base.normal[tri[0]] + b[1] * base.normal[tri[1]] + b[2] * base.normal[tri[2]];
+      if (!(m.norm() > 0)) continue;
+      m.normalize();
+      // Point-to-plane row: the foot's displacement along m must close the gap to x.
+      Vec3 L = Vec3::Zero();
+      int len = 0;
+      for (int c = 0; c < 3; ++c) {
+        const int k = tri[c];
+        L += b[c] * base.mesh.V[k];
+        const double ck = b[c] * base.normal[k].dot(m);
+        for (int q = 0; q < 4; ++q)
+          if (bw[k][q] != 0) { rowIdx[r][len] = bt[k][q]; rowW[r][len] = ck * bw[k][q]; ++len; }
+      }
+      rowLen[r] = len;
+      rhs0[r] = (x - L).dot(m);
+    }
+    double sum = 0;
+    for (int r = 0; r < nR; ++r) sum += dist[r] * dist[r];
+    const double rms = std::sqrt(sum / nR);
+    if (it == 0) st.rmsBefore = rms;
+    if (!(rms < bestRms)) break;  // no improvement: keep the previous iterate
+    bestRms = rms;
+    best = d;
+    st.iterations = it;
+    if (it == p.iterations) break;
+    // Normal equations (AᵀA + w_a I) d = Aᵀb + w_a d0.
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(size_t(nR) * 9 + nX);
+    Eigen::VectorXd rhs = p.anchorWeight * d0;
+    for (int r = 0; r < nR; ++r)
+      for (int s1 = 0; s1 < rowLen[r]; ++s1) {
+        rhs[rowIdx[r][s1]] += rowW[r][s1] * rhs0[r];
+        for (int s2 = 0; s2 < rowLen[r]; ++s2)
+          trip.emplace_back(rowIdx[r][s1], rowIdx[r][s2], rowW[r][s1] * rowW[r][s2]);
+      }
+    for (int x = 0; x < nX; ++x) trip.emplace_back(x, x, p.anchorWeight);
+    Eigen::SparseMatrix<double> Nm(nX, nX);
+    Nm.setFromTriplets(trip.begin(), trip.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Nm);
+    if (solver.info() != Eigen::Success) break;
+    Eigen::VectorXd dn = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !dn.allFinite()) break;
+    d = dn;
+  }
+  st.rmsAfter = std::isfinite(bestRms) ? bestRms : st.rmsBefore;
+  for (int f = 0; f < nF; ++f) {
+    const int x0 = (f % a.cols) * a.R, y0 = (f / a.cols) * a.R;
+    for (int j = 0; j <= T; ++j)
+      for (int i = 0; i <= T; ++i) a.disp[size_t(y0 + j) * a.width + x0 + i] = float(best[tex.GridId(f, i, j)]);
+  }
+  Quantize(a, nF);
+  st.fitted = true;
+  return st;
 }
 
 LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a,
@@ -226,6 +356,27 @@ std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriD
     mx = std::max(mx, d);
   }
   return {std::sqrt(sum / ref.V.size()), mx};
+}
+
+std::pair<double, double> AreaSampledDistance(const TriData& from, const TriData& to, bool threePoint) {
+  EmbreeScene s(to);
+  if (!s.Ok() || from.F.empty()) return {0.0, 0.0};
+  double sw = 0, sd = 0, mx = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sw, sd) reduction(max : mx)
+  for (long t = 0; t < long(from.F.size()); ++t) {
+    const auto& f = from.F[t];
+    const Vec3 &a = from.V[f[0]], &b = from.V[f[1]], &c = from.V[f[2]];
+    const double w = 0.5 * (b - a).cross(c - a).norm() / (threePoint ? 3 : 1);
+    for (int k = 0; k < (threePoint ? 3 : 1); ++k) {
+      const Vec3 q = threePoint ? Vec3((a + b + c + 3.0 * (k == 0 ? a : k == 1 ? b : c)) / 6.0) : Vec3((a + b + c) / 3.0);
+      const EmbreeScene::Hit h = s.ClosestPoint(q);
+      const double d = h.valid ? (h.point - q).norm() : 0.0;
+      sw += w;
+      sd += w * d * d;
+      mx = std::max(mx, d);
+    }
+  }
+  return {sw > 0 ? std::sqrt(sd / sw) : 0.0, mx};
 }
 
 double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, const EmbreeScene& scene, double maxDist) {
@@ -297,6 +448,8 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   t = Clock::now();
   const int R = p.textureResolution > 0 ? p.textureResolution : AutoTextureResolution(r.referenceVertices, ls.NumFaces());
   r.atlas = BakeDisplacement(ls, ctrl, ref, scene, R, maxDist, p.normalMap);
+  if (p.fitDisplacement)
+    r.displacementFit = FitDisplacement(ls, ctrl, ref, p.limitSegments, p.displacementFit, r.atlas);
   r.displaced = DisplacedSurface(ls, ctrl, r.atlas, p.limitSegments);
   r.displaced.quality = SignedDistanceToReference(r.displaced.mesh.V, scene, std::numeric_limits<double>::infinity());
   r.times.emplace_back("bake", Since(t));
@@ -318,6 +471,10 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
     double mx = 0;
     for (double q : r.limit.quality) mx = std::max(mx, std::abs(q));
     r.metrics.maxLimitToRefPermille = mx * pm;
+    r.metrics.rmsDisplacedAreaPermille = AreaSampledDistance(ref, r.displaced.mesh).first * pm;
+    const auto dr = AreaSampledDistance(r.displaced.mesh, ref, true);
+    r.metrics.rmsDisplacedToRefPermille = dr.first * pm;
+    r.metrics.maxDisplacedToRefPermille = dr.second * pm;
     r.metrics.unprojectablePct = UnprojectablePercent(dense, ref, scene, maxDist);
     r.times.emplace_back("metrics", Since(t));
   }
@@ -347,7 +504,11 @@ std::string FormatReport(const FitBakeResult& r) {
   o << "limit error RMS " << r.metrics.rmsLimitPermille << " max " << r.metrics.maxLimitPermille
     << " (permille of bbox diagonal, per reference vertex)\n";
   o << "displaced error RMS " << r.metrics.rmsDisplacedPermille << " max " << r.metrics.maxDisplacedPermille
-    << " (texture " << r.atlas.width << "x" << r.atlas.height << ", tile " << r.atlas.R << ")\n";
+    << " (texture " << r.atlas.width << "x" << r.atlas.height << ", tile " << r.atlas.R << ", "
+    << (r.displacementFit.fitted ? "least-squares texels" : "point-sampled texels") << ")\n";
+  o << "displaced error area-weighted: reference -> displaced RMS " << r.metrics.rmsDisplacedAreaPermille
+    << ", displaced -> reference RMS " << r.metrics.rmsDisplacedToRefPermille << " max "
+    << r.metrics.maxDisplacedToRefPermille << " (permille)\n";
   o << "time:";
   for (const auto& t : r.times) o << " " << t.first << " " << t.second << " s,";
   o << " total " << r.totalSeconds << " s; peak memory " << r.peakMemoryMb << " MB\n";

@@ -217,6 +217,10 @@ std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::
     << "  \"rms_displaced_permille\": " << Num(r.metrics.rmsDisplacedPermille) << ",\n"
     << "  \"max_displaced_permille\": " << Num(r.metrics.maxDisplacedPermille) << ",\n"
     << "  \"max_limit_to_reference_permille\": " << Num(r.metrics.maxLimitToRefPermille) << ",\n"
+    << "  \"rms_displaced_area_permille\": " << Num(r.metrics.rmsDisplacedAreaPermille) << ",\n"
+    << "  \"rms_displaced_to_reference_permille\": " << Num(r.metrics.rmsDisplacedToRefPermille) << ",\n"
+    << "  \"max_displaced_to_reference_permille\": " << Num(r.metrics.maxDisplacedToRefPermille) << ",\n"
+    << "  \"displacement_fit\": " << (r.displacementFit.fitted ? "true" : "false") << ",\n"
     << "  \"error_measure\": \"distance from every reference vertex to the closest point of the surface, "
        "unweighted per vertex, in 1/1000 of the reference bbox diagonal\",\n"
     << "  \"time_s\": {";
