@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   if (pos.size() < 2) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
-                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [dfit=0|1 least-squares displacement] [danchor=anchor weight] [diters=rounds] "
+                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [dfit=0|1 least-squares displacement] [danchor=anchor weight] [diters=rounds] "
                  "[method=0 point-to-point | 1 tangent distance]\n",
                  argv[0]);
     return 2;
@@ -175,6 +175,8 @@ int main(int argc, char** argv) {
   }
   std::printf("\n  displaced, area-weighted: reference -> displaced RMS %.4f, displaced -> reference RMS %.4f max %.4f permille",
               m.rmsDisplacedAreaPermille, m.rmsDisplacedToRefPermille, m.maxDisplacedToRefPermille);
+  std::printf("\n  folded triangles: displaced layer %d of %zu, limit tessellation %d", m.displacedFolds,
+              last.displaced.mesh.F.size(), m.limitFolds);
   if (last.displacementFit.fitted)
     std::printf("\n  displacement fit: %d round(s), reference->displaced RMS %.4g -> %.4g (unquantized)",
                 last.displacementFit.iterations, last.displacementFit.rmsBefore, last.displacementFit.rmsAfter);

@@ -302,6 +302,13 @@ TEST(CCFit, ReportJsonParsesAndAgrees) {
   EXPECT_NEAR(num("max_limit_permille"), r.metrics.maxLimitPermille, 1e-8);
   EXPECT_NEAR(num("rms_displaced_permille"), r.metrics.rmsDisplacedPermille, 1e-8);
   EXPECT_NEAR(num("max_displaced_permille"), r.metrics.maxDisplacedPermille, 1e-8);
+  EXPECT_NEAR(num("rms_displaced_area_permille"), r.metrics.rmsDisplacedAreaPermille, 1e-8);
+  EXPECT_NEAR(num("rms_displaced_to_reference_permille"), r.metrics.rmsDisplacedToRefPermille, 1e-8);
+  EXPECT_NEAR(num("max_displaced_to_reference_permille"), r.metrics.maxDisplacedToRefPermille, 1e-8);
+  EXPECT_EQ(num("folded_triangles_displaced"), r.metrics.displacedFolds);
+  EXPECT_EQ(num("folded_triangles_limit"), r.metrics.limitFolds);
+  EXPECT_EQ(j.obj["displacement_fit"].type, Json::Bool);
+  EXPECT_EQ(j.obj["displacement_fit"].num, r.displacementFit.fitted ? 1.0 : 0.0);
   EXPECT_NEAR(num("peak_memory_mb"), r.peakMemoryMb, 1e-6);
   ASSERT_EQ(j.obj["time_s"].type, Json::Obj);
   auto& ts = j.obj["time_s"].obj;
@@ -626,4 +633,49 @@ TEST(FitDisplacement, InvalidParametersLeaveTheAtlasUntouched) {
     EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, p, a).fitted);
     EXPECT_TRUE(a.q16 == before);
   }
+}
+
+// FoldedTriangles (report: folded_triangles_*): a tube (closed around, open along its straight
+// axis) displaced by a constant c along its limit normal. Outwards nothing folds; inwards less
+// than its radius nothing folds; inwards past the axis the circumferential direction reverses
+// and the axial one does not, so every triangle faces against its normals. A reversed triangle
+// is one fold.
+TEST(FitDisplacement, FoldedTrianglesCountsInversions) {
+  QuadData q;
+  const int around = 8, rings = 4;
+  const double rho = 1.0;
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < around; ++i) {
+      const double t = 2 * M_PI * i / around;
+      q.V.emplace_back(rho * std::cos(t), rho * std::sin(t), 0.5 * j);
+    }
+  for (int j = 0; j + 1 < rings; ++j)
+    for (int i = 0; i < around; ++i) {
+      const int i1 = (i + 1) % around;
+      q.F.push_back({j * around + i, j * around + i1, (j + 1) * around + i1, (j + 1) * around + i});
+    }
+  LimitSurface ls = LimitSurface::FromQuads(q);
+  ASSERT_TRUE(ls.Ok()) << ls.Error();
+  LimitTessellation lim = TessellateLimit(ls, q.V, 6);
+  EXPECT_EQ(FoldedTriangles(lim), 0);
+  DisplacementAtlas a;
+  a.R = 4;
+  a.cols = int(std::ceil(std::sqrt(double(q.F.size()))));
+  a.rows = (int(q.F.size()) + a.cols - 1) / a.cols;
+  a.width = a.cols * a.R;
+  a.height = a.rows * a.R;
+  a.q16.assign(size_t(a.width) * a.height, 0);
+  a.scale = 1.0;
+  auto foldsAt = [&](double c) {
+    a.offset = c;
+    return FoldedTriangles(DisplacedSurface(ls, q.V, a, 6));
+  };
+  const int all = int(lim.mesh.F.size());
+  EXPECT_EQ(foldsAt(0.3 * rho), 0);
+  EXPECT_EQ(foldsAt(-0.3 * rho), 0);
+  const int plus = foldsAt(3 * rho), minus = foldsAt(-3 * rho);
+  EXPECT_EQ(std::min(plus, minus), 0);
+  EXPECT_EQ(std::max(plus, minus), all);
+  std::swap(lim.mesh.F[7][1], lim.mesh.F[7][2]);
+  EXPECT_EQ(FoldedTriangles(lim), 1);
 }

@@ -207,48 +207,83 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   return a;
 }
 
+namespace {
+// The displaced layer as a linear function of the texels: its base tessellation (what
+// DisplacedSurface displaces, max(R−1, minSegments) per side) and, per base vertex, the bilinear
+// filter weights of the 4 texels of its tile. Texels are numbered on the welded grid of
+// TessellateLimit(R−1): texels on shared tile edges/corners are one unknown (seamless tiles).
+class DisplacedModel {
+ public:
+  DisplacedModel(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int R, int minSegments)
+      : T_(R - 1), nF_(ls.NumFaces()) {
+    base_ = TessellateLimit(ls, ctrl, std::max(T_, minSegments));
+    if (base_.N != T_) texGrid_ = TessellateLimit(ls, ctrl, T_);
+    const int nB = NumBase();
+    bt_.resize(nB);
+    bw_.resize(nB);
+    for (int k = 0; k < nB; ++k) {
+      const double x = std::clamp(base_.uv[k][0], 0.0, 1.0) * T_, y = std::clamp(base_.uv[k][1], 0.0, 1.0) * T_;
+      const int i = std::min(int(x), T_ - 1), j = std::min(int(y), T_ - 1), f = base_.face[k];
+      const double fx = x - i, fy = y - j;
+      bt_[k] = {Tex().GridId(f, i, j), Tex().GridId(f, i + 1, j), Tex().GridId(f, i, j + 1), Tex().GridId(f, i + 1, j + 1)};
+      bw_[k] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+    }
+  }
+  const LimitTessellation& Base() const { return base_; }
+  const LimitTessellation& Tex() const { return base_.N == T_ ? base_ : texGrid_; }
+  int NumTexels() const { return int(Tex().mesh.V.size()); }
+  int NumBase() const { return int(base_.mesh.V.size()); }
+  const std::array<int, 4>& Texels(int k) const { return bt_[k]; }
+  const std::array<double, 4>& Weights(int k) const { return bw_[k]; }
+  // Texel values of the atlas's tiles, by welded id.
+  Eigen::VectorXd Gather(const DisplacementAtlas& a) const {
+    Eigen::VectorXd d(NumTexels());
+    for (int f = 0; f < nF_; ++f)
+      for (int j = 0; j <= T_; ++j)
+        for (int i = 0; i <= T_; ++i) d[Tex().GridId(f, i, j)] = a.disp[Pixel(a, f, i, j)];
+    return d;
+  }
+  // Writes the texel values into every tile (shared texels into each tile that has them).
+  void Scatter(const Eigen::VectorXd& d, DisplacementAtlas& a) const {
+    for (int f = 0; f < nF_; ++f)
+      for (int j = 0; j <= T_; ++j)
+        for (int i = 0; i <= T_; ++i) a.disp[Pixel(a, f, i, j)] = float(d[Tex().GridId(f, i, j)]);
+  }
+  double Displacement(int k, const Eigen::VectorXd& d) const {
+    double s = 0;
+    for (int q = 0; q < 4; ++q) s += bw_[k][q] * d[bt_[k][q]];
+    return s;
+  }
+  TriData Mesh(const Eigen::VectorXd& d) const {
+    TriData m;
+    m.F = base_.mesh.F;
+    m.V.resize(NumBase());
+    for (int k = 0; k < NumBase(); ++k) m.V[k] = base_.mesh.V[k] + Displacement(k, d) * base_.normal[k];
+    return m;
+  }
+
+ private:
+  static size_t Pixel(const DisplacementAtlas& a, int f, int i, int j) {
+    return size_t((f / a.cols) * a.R + j) * a.width + (f % a.cols) * a.R + i;
+  }
+  int T_, nF_;
+  LimitTessellation base_, texGrid_;
+  std::vector<std::array<int, 4>> bt_;
+  std::vector<std::array<double, 4>> bw_;
+};
+}  // namespace
+
 DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                                      int minSegments, const DisplacementFitParams& p, DisplacementAtlas& a) {
   DisplacementFitStats st;
   const int nF = ls.NumFaces();
   if (!ls.Ok() || nF == 0 || a.R < 2 || ref.V.empty() || p.iterations < 1 || !(p.anchorWeight > 0)) return st;
-  const int T = a.R - 1, Nd = std::max(T, minSegments);
-  // The displaced layer's base tessellation (what DisplacedSurface displaces) and the welded
-  // texel numbering (texels on shared tile edges/corners are one unknown, so tiles stay seamless).
-  const LimitTessellation base = TessellateLimit(ls, ctrl, Nd);
-  LimitTessellation texGrid;
-  if (Nd != T) texGrid = TessellateLimit(ls, ctrl, T);
-  const LimitTessellation& tex = Nd == T ? base : texGrid;
-  const int nX = int(tex.mesh.V.size()), nB = int(base.mesh.V.size());
+  const DisplacedModel model(ls, ctrl, a.R, minSegments);
+  const LimitTessellation& base = model.Base();
+  const int nX = model.NumTexels();
   // Point-sampled (ray) values: the anchor of every texel.
-  Eigen::VectorXd d0(nX);
-  for (int f = 0; f < nF; ++f) {
-    const int x0 = (f % a.cols) * a.R, y0 = (f / a.cols) * a.R;
-    for (int j = 0; j <= T; ++j)
-      for (int i = 0; i <= T; ++i) d0[tex.GridId(f, i, j)] = a.disp[size_t(y0 + j) * a.width + x0 + i];
-  }
-  // Each base vertex's displacement = bilinear filter of its tile (as DisplacedSurface does).
-  std::vector<std::array<int, 4>> bt(nB);
-  std::vector<std::array<double, 4>> bw(nB);
-  for (int k = 0; k < nB; ++k) {
-    const double x = std::clamp(base.uv[k][0], 0.0, 1.0) * T, y = std::clamp(base.uv[k][1], 0.0, 1.0) * T;
-    const int i = std::min(int(x), T - 1), j = std::min(int(y), T - 1), f = base.face[k];
-    const double fx = x - i, fy = y - j;
-    bt[k] = {tex.GridId(f, i, j), tex.GridId(f, i + 1, j), tex.GridId(f, i, j + 1), tex.GridId(f, i + 1, j + 1)};
-    bw[k] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
-  }
+  const Eigen::VectorXd d0 = model.Gather(a);
   Eigen::VectorXd d = d0;
-  auto displacedMesh = [&](const Eigen::VectorXd& dv) {
-    TriData m;
-    m.F = base.mesh.F;
-    m.V.resize(nB);
-    for (int k = 0; k < nB; ++k) {
-      double s = 0;
-      for (int q = 0; q < 4; ++q) s += bw[k][q] * dv[bt[k][q]];
-      m.V[k] = base.mesh.V[k] + s * base.normal[k];
-    }
-    return m;
-  };
   const int nR = int(ref.V.size());
   constexpr int kMaxRow = 12;  // 3 triangle corners × 4 bilinear texels
   std::vector<std::array<int, kMaxRow>> rowIdx(nR);
@@ -259,7 +294,7 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
   double bestRms = std::numeric_limits<double>::infinity();
   for (int it = 0; it <= p.iterations; ++it) {
     // Foot points on the current displaced mesh: exactly the reported error's closest points.
-    const TriData dm = displacedMesh(d);
+    const TriData dm = model.Mesh(d);
     EmbreeScene scene(dm);
     if (!scene.Ok()) break;
 #pragma omp parallel for schedule(static)
@@ -283,7 +318,11 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
         L += b[c] * base.mesh.V[k];
         const double ck = b[c] * base.normal[k].dot(m);
         for (int q = 0; q < 4; ++q)
-          if (bw[k][q] != 0) { rowIdx[r][len] = bt[k][q]; rowW[r][len] = ck * bw[k][q]; ++len; }
+          if (model.Weights(k)[q] != 0) {
+            rowIdx[r][len] = model.Texels(k)[q];
+            rowW[r][len] = ck * model.Weights(k)[q];
+            ++len;
+          }
       }
       rowLen[r] = len;
       rhs0[r] = (x - L).dot(m);
@@ -317,14 +356,19 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
     d = dn;
   }
   st.rmsAfter = std::isfinite(bestRms) ? bestRms : st.rmsBefore;
-  for (int f = 0; f < nF; ++f) {
-    const int x0 = (f % a.cols) * a.R, y0 = (f / a.cols) * a.R;
-    for (int j = 0; j <= T; ++j)
-      for (int i = 0; i <= T; ++i) a.disp[size_t(y0 + j) * a.width + x0 + i] = float(best[tex.GridId(f, i, j)]);
-  }
+  model.Scatter(best, a);
   Quantize(a, nF);
   st.fitted = true;
   return st;
+}
+
+int FoldedTriangles(const LimitTessellation& t) {
+  int n = 0;
+  for (const auto& f : t.mesh.F) {
+    const Vec3 fn = (t.mesh.V[f[1]] - t.mesh.V[f[0]]).cross(t.mesh.V[f[2]] - t.mesh.V[f[0]]);
+    if (fn.dot(t.normal[f[0]] + t.normal[f[1]] + t.normal[f[2]]) < 0) ++n;
+  }
+  return n;
 }
 
 LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a,
@@ -475,6 +519,8 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
     const auto dr = AreaSampledDistance(r.displaced.mesh, ref, true);
     r.metrics.rmsDisplacedToRefPermille = dr.first * pm;
     r.metrics.maxDisplacedToRefPermille = dr.second * pm;
+    r.metrics.displacedFolds = FoldedTriangles(r.displaced);
+    r.metrics.limitFolds = FoldedTriangles(dense);
     r.metrics.unprojectablePct = UnprojectablePercent(dense, ref, scene, maxDist);
     r.times.emplace_back("metrics", Since(t));
   }
@@ -509,6 +555,8 @@ std::string FormatReport(const FitBakeResult& r) {
   o << "displaced error area-weighted: reference -> displaced RMS " << r.metrics.rmsDisplacedAreaPermille
     << ", displaced -> reference RMS " << r.metrics.rmsDisplacedToRefPermille << " max "
     << r.metrics.maxDisplacedToRefPermille << " (permille)\n";
+  o << "folded triangles (facing against the limit normal): displaced layer " << r.metrics.displacedFolds
+    << ", limit tessellation " << r.metrics.limitFolds << "\n";
   o << "time:";
   for (const auto& t : r.times) o << " " << t.first << " " << t.second << " s,";
   o << " total " << r.totalSeconds << " s; peak memory " << r.peakMemoryMb << " MB\n";

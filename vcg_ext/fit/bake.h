@@ -112,6 +112,10 @@ struct DisplacementFitStats {
 DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                                      int minSegments, const DisplacementFitParams& p, DisplacementAtlas& a);
 
+/// Triangles of a (displaced) tessellation facing against the limit normals of their corners
+/// (sum of the three): folds, where the displacement along converging normals crosses over.
+int FoldedTriangles(const LimitTessellation& t);
+
 /// The displaced surface as a renderer shows it: the limit surface tessellated with
 /// max(R-1, minSegments) segments per patch side, each vertex moved along the limit normal by
 /// the bilinearly filtered (decoded 16-bit) displacement of its patch's tile. With
@@ -135,6 +139,8 @@ struct FitMetrics {
   /// for error elsewhere on the surface.
   double rmsDisplacedAreaPermille = 0;
   double rmsDisplacedToRefPermille = 0, maxDisplacedToRefPermille = 0;
+  int displacedFolds = 0;  ///< FoldedTriangles of the displaced layer
+  int limitFolds = 0;      ///< FoldedTriangles of the dense limit tessellation (zero displacement)
   double unprojectablePct = 0;       ///< % of the reference area not reached by normal projection
 };
 

@@ -220,6 +220,8 @@ std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::
     << "  \"rms_displaced_area_permille\": " << Num(r.metrics.rmsDisplacedAreaPermille) << ",\n"
     << "  \"rms_displaced_to_reference_permille\": " << Num(r.metrics.rmsDisplacedToRefPermille) << ",\n"
     << "  \"max_displaced_to_reference_permille\": " << Num(r.metrics.maxDisplacedToRefPermille) << ",\n"
+    << "  \"folded_triangles_displaced\": " << r.metrics.displacedFolds << ",\n"
+    << "  \"folded_triangles_limit\": " << r.metrics.limitFolds << ",\n"
     << "  \"displacement_fit\": " << (r.displacementFit.fitted ? "true" : "false") << ",\n"
     << "  \"error_measure\": \"distance from every reference vertex to the closest point of the surface, "
        "unweighted per vertex, in 1/1000 of the reference bbox diagonal\",\n"
