@@ -1,6 +1,9 @@
 // Glue for "Fit Catmull-Clark Surface and Bake Displacement" (paper §3.5, §4):
 // control layer (pure quads) + reference layer -> fitted control, limit, displaced layers,
 // displacement/normal textures, quad OBJ and report.json.
+#include <algorithm>
+#include <cmath>
+
 #include <QDir>
 #include <QFileInfo>
 
@@ -131,15 +134,24 @@ bool ApplyFit(GlueContext& ctx) {
   for (const auto& t : r.times) all.push_back(t);
   SetStageTimes(fitted->cm, all);
 
+  // Both surfaces are coloured over one symmetric range (the limit layer's 1-99 % percentiles), so
+  // their colours compare: green = on the reference, red / blue = below / above it.
+  double range = 0;
   auto addSurface = [&](const vcgext::LimitTessellation& t, const QString& name) {
     MeshModel* m = ctx.md.addNewMesh("", name, false);
     m->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
     vcgext::ExportTriangles(t.mesh, m->cm, t.quality.empty() ? nullptr : &t.quality);
-    vcgext::ColorizeQuality(m->cm);
+    if (range == 0) {
+      const auto pr = vcgext::QualityPercentiles(m->cm, 1.0, 99.0);
+      range = std::max({std::abs(pr.first), std::abs(pr.second), 1e-12});
+    }
+    vcgext::ColorizeQualityRange(m->cm, -range, range);
     m->UpdateBoxAndNormals();
   };
   addSurface(r.limit, base + " limit");
   addSurface(r.displaced, base + " displaced");
+  ctx.log("Fit Catmull-Clark Surface: limit and displaced layers coloured by signed distance to the reference over [" +
+          std::to_string(-range) + ", " + std::to_string(range) + "] (red below, blue above)");
   ctx.md.setCurrentMesh(fitted->id());
 
   ctx.log(vcgext::FormatReport(r));

@@ -52,4 +52,13 @@ std::pair<double, double> ColorizeQuality(MeshType& m, double loPct = 1.0, doubl
   return r;
 }
 
+/// Colours the vertex quality with the ramp over a given range [lo, hi] (e.g. another layer's,
+/// so that two layers' colours compare).
+template <class MeshType>
+void ColorizeQualityRange(MeshType& m, double lo, double hi) {
+  if (hi <= lo) hi = lo + 1e-12;
+  vcg::tri::UpdateColor<MeshType>::PerVertexQualityRamp(m, typename MeshType::ScalarType(lo),
+                                                         typename MeshType::ScalarType(hi));
+}
+
 }  // namespace vcgext
