@@ -241,6 +241,7 @@ int main(int argc, char** argv) {
                 r.doublets, r.boundaryCorners);
     std::printf("  refused          %d by M-fitmap, %d topology, %d flip, %d geometric guard\n", r.rejectedByM,
                 r.rejectedTopology, r.rejectedFlip, r.rejectedDeviation);
+    std::printf("  parallel checks  %.0f %% of the steps (AdaptiveParallelism)\n", 100 * r.parallelStepShare);
     std::printf("  flipped          %d patches, %d vertices\n", r.flippedPatches, r.flippedVertices);
     std::printf("  projectable      %.2f%% of the input area (control mesh as simplified, limit interpolates)\n", proj);
     if (finalFit)

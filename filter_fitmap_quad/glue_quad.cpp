@@ -1,5 +1,6 @@
 // Glue for "Fitmap Quad Simplification" (paper §3.2–3.4): current triangle (or quad) layer +
 // its Fitmaps -> a NEW layer with the adaptive pure-quad control mesh. The input is not modified.
+#include <cmath>
 #include <QString>
 
 #include <chrono>
@@ -116,7 +117,8 @@ bool ApplyQuad(GlueContext& ctx) {
   log << "; " << r.collapses << " collapses, " << r.swaps << " swaps, " << r.doublets << " doublets, "
       << r.boundaryCorners << " boundary corners; refused: " << r.rejectedByM << " by the M-fitmap, "
       << r.rejectedTopology << " by topology, " << r.rejectedFlip << " by flips, " << r.rejectedDeviation << " by the thin-part guard; final flipped patches "
-      << r.flippedPatches << "; time: tri-to-quad " << r.secondsTriToQuad << " s, initial fit "
+      << r.flippedPatches << "; checks on several threads in " << int(std::lround(100 * r.parallelStepShare))
+      << " % of the steps; time: tri-to-quad " << r.secondsTriToQuad << " s, initial fit "
       << r.secondsInitialFit << " s, simplification " << r.secondsSimplify << " s, total "
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s";
   ctx.log(log.str());

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <omp.h>
+
 #include "quad_test_util.h"
 #include "test_support.h"
 #include "vcg_ext/quad/cc_limit.h"
@@ -33,6 +35,20 @@ void ExpectGuarantees(const vcgext::TriData& in, const vcgext::QuadSimplifyResul
   for (int c : r.valenceHistogram) sum += c;
   EXPECT_EQ(sum, int(r.quads.V.size()));
   EXPECT_EQ(r.valenceHistogram.size() > 2 ? 0 : 1, 0);
+}
+// Synthetic Fitmaps for real scans: S from a normal-variation curvature estimate, M = 5% of
+// the bbox diagonal.
+void SyntheticFitmaps(const vcgext::TriData& t, std::vector<double>& S, std::vector<double>& M) {
+  auto N = vcgext::VertexNormals(t);
+  auto adj = vcgext::VertexVertexAdjacency(t.F, int(t.V.size()));
+  double diag = vcgext::BBoxDiagonal(t.V);
+  S.assign(t.V.size(), 0.0);
+  M.assign(t.V.size(), 0.05 * diag);
+  for (size_t i = 0; i < t.V.size(); ++i)
+    for (const int* j = adj.Begin(int(i)); j != adj.End(int(i)); ++j) {
+      double d = (t.V[*j] - t.V[i]).norm();
+      if (d > 0) S[i] = std::max(S[i], std::sqrt((N[*j] - N[i]).norm() / d / diag));
+    }
 }
 }  // namespace
 
@@ -257,15 +273,8 @@ TEST(QuadSimplify, RealScansKeepTheGuarantees) {
   for (const char* name : {"elephant.off", "three_peaks.off"}) {
     auto t = testsupport::LoadSample(name);
     vcgext::EmbreeScene scene(t);
-    auto N = vcgext::VertexNormals(t);
-    auto adj = vcgext::VertexVertexAdjacency(t.F, int(t.V.size()));
-    double diag = vcgext::BBoxDiagonal(t.V);
-    std::vector<double> S(t.V.size(), 0.0), M(t.V.size(), 0.05 * diag);
-    for (size_t i = 0; i < t.V.size(); ++i)
-      for (const int* j = adj.Begin(int(i)); j != adj.End(int(i)); ++j) {
-        double d = (t.V[*j] - t.V[i]).norm();
-        if (d > 0) S[i] = std::max(S[i], std::sqrt((N[*j] - N[i]).norm() / d / diag));
-      }
+    std::vector<double> S, M;
+    SyntheticFitmaps(t, S, M);
     vcgext::QuadSimplifyParams p;
     p.validateEveryOperation = std::string(name) == "three_peaks.off";
     auto r = vcgext::SimplifyToQuads(t, scene, S, M, p);
@@ -334,4 +343,80 @@ TEST(QuadSimplify, ThinPartGuardKeepsTheLimitOnAThinShape) {
   // Measured: off 6 patches, 0.070; on 25 patches, 0.052.
   EXPECT_LT(d1, 1.2 * 0.25 * 0.2);
   EXPECT_GT(d0, 1.2 * 0.25 * 0.2);  // the shape does exercise the guard
+}
+
+// A step's checks and projections run on several threads (docs/quad.md "Limitations"). The result
+// must not depend on the thread count: the same mesh bit for bit and the same refusals; in test
+// mode every per-thread memo and cache is verified after every step.
+TEST(QuadSimplify, ThreadCountDoesNotChangeTheResult) {
+  auto t = testsupport::LoadSample("elephant.off");
+  vcgext::EmbreeScene scene(t);
+  std::vector<double> S, M;
+  SyntheticFitmaps(t, S, M);
+  vcgext::QuadSimplifyParams p;
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  auto r1 = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  omp_set_num_threads(2);
+  p.parallelChecks = vcgext::QuadSimplifyParams::ParallelChecks::Always;
+  auto r2 = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  p.validateEveryOperation = true;
+  auto r3 = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  omp_set_num_threads(before);
+  ASSERT_EQ(r1.error, "");
+  ASSERT_EQ(r2.error, "");
+  ASSERT_EQ(r3.error, "");  // stale memo / cache entries would be reported here
+  EXPECT_GT(r1.collapses, 100);
+  EXPECT_EQ(r1.parallelStepShare, 0.0);
+  EXPECT_EQ(r2.parallelStepShare, 1.0);
+  for (const auto* r : {&r2, &r3}) {
+    EXPECT_EQ(r->quads.F, r1.quads.F);
+    ASSERT_EQ(r->quads.V.size(), r1.quads.V.size());
+    for (size_t i = 0; i < r1.quads.V.size(); ++i) EXPECT_EQ(r->quads.V[i], r1.quads.V[i]) << i;
+    EXPECT_EQ(r->collapses, r1.collapses);
+    EXPECT_EQ(r->rejectedByM, r1.rejectedByM);
+    EXPECT_EQ(r->rejectedFlip, r1.rejectedFlip);
+    EXPECT_EQ(r->rejectedDeviation, r1.rejectedDeviation);
+  }
+}
+
+// AdaptiveParallelism (the choice of threads for a step's checks) on synthetic timings: it must
+// settle on the faster mode, probe the other one ever more rarely, follow a change of load
+// within a block or two, and never go parallel when not allowed.
+TEST(AdaptiveParallelism, FollowsTheFasterModeAndTheLoad) {
+  // Simulates `blocks` blocks; t(parallel) is the time per unit of the block's mode. Returns the
+  // share of the steps run in parallel mode.
+  auto simulate = [](vcgext::AdaptiveParallelism& a, int blocks, double serial, double parallel) {
+    long par = 0, all = 0;
+    for (int b = 0; b < blocks; ++b) {
+      const int n = a.BlockSteps();
+      all += n;
+      par += a.Parallel() ? n : 0;
+      a.EndBlock(a.Parallel() ? parallel : serial);
+    }
+    return double(par) / all;
+  };
+  vcgext::AdaptiveParallelism off(false);
+  EXPECT_EQ(simulate(off, 200, 1.0, 0.5), 0.0);
+  EXPECT_FALSE(off.Parallel());
+
+  vcgext::AdaptiveParallelism idle(true);  // parallel 30 % faster: mostly parallel
+  EXPECT_FALSE(idle.Parallel());            // starts serial
+  EXPECT_GT(simulate(idle, 1000, 1.0, 0.7), 0.9);
+  EXPECT_LT(idle.Switches(), 40);           // the serial probes back off
+
+  vcgext::AdaptiveParallelism loaded(true);  // parallel 5x slower: almost never
+  EXPECT_LT(simulate(loaded, 1000, 1.0, 5.0), 0.01);
+  EXPECT_FALSE(loaded.Parallel());
+
+  // Load appears after an idle stretch: serial again within two blocks.
+  vcgext::AdaptiveParallelism change(true);
+  simulate(change, 300, 1.0, 0.7);
+  ASSERT_TRUE(change.Parallel());
+  change.EndBlock(5.0);
+  if (change.Parallel()) change.EndBlock(5.0);
+  EXPECT_FALSE(change.Parallel());
+  // ... and it goes parallel again once the load is gone.
+  EXPECT_GT(simulate(change, 2000, 1.0, 0.7), 0.5);
+  EXPECT_TRUE(change.Parallel());
 }

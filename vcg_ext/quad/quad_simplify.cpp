@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <cmath>
 #include <cstdint>
 #include <queue>
@@ -77,6 +80,35 @@ void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts) {
   if (nmVerts) *nmVerts = nv;
 }
 
+bool AdaptiveParallelism::EndBlock(double secondsPerUnit) {
+  ++blocks_;
+  parallelBlocks_ += par_ ? 1 : 0;
+  last_[par_] = secondsPerUnit;
+  if (!allowed_) return par_ = false;
+  const double other = last_[!par_];
+  if (probing_) {  // the block just measured tried this mode
+    probing_ = false;
+    sinceProbe_ = 0;
+    if (secondsPerUnit < 0.85 * other) {
+      probe_ = minProbe_;  // it won clearly (block times are noisy): stay
+    } else {
+      probe_ = std::min(2 * probe_, maxProbe_);
+      Switch(false);
+    }
+    return par_;
+  }
+  if (other < 0 || ++sinceProbe_ >= probe_) Switch(true);      // never measured / time to probe
+  else if (secondsPerUnit > 1.5 * other) Switch(false);         // clearly slower now (load changed)
+  return par_;
+}
+
+void AdaptiveParallelism::Switch(bool probe) {
+  par_ = !par_;
+  probing_ = probe;
+  sinceProbe_ = 0;
+  ++switches_;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -143,11 +175,11 @@ class Simplifier {
     return true;
   }
 
-  // vp given: the corners' vertex points, during the checks of a step (memo_ valid)
-  FaceInfo EvalFace(int f, const Vec3* vp = nullptr) const {
+  // vp given: the corners' vertex points, during the checks of a step (`memo` valid)
+  FaceInfo EvalFace(int f, const Vec3* vp = nullptr, const quad::QuadMemo* memo = nullptr) const {
     FaceInfo fi;
     Vec3 n;
-    if (!(vp ? quad::FaceCentreLimit(memo_, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
+    if (!(vp ? quad::FaceCentreLimit(*memo, f, vp, &fi.c, &n) : quad::FaceCentreLimit(K, f, &fi.c, &n))) return fi;
     if (!Project(fi.c, n, fi, FSide(f))) {
       // no hit: keep S/M from the closest point so costs stay meaningful, but flag it
       EmbreeScene::Hit h = scene_.ClosestPoint(fi.c);
@@ -183,16 +215,16 @@ class Simplifier {
   }
   // geometric guard on face g (its corners' vertex points vp): centre (info) and edge midpoints
   // (each edge once: skipped when the neighbour also touches W and has the smaller index).
-  // During the checks of a step (memo_ valid).
-  bool FaceDeviationOk(int g, const Vec3 vp[4], const FaceInfo& fi) const {
+  // During the checks of a step (`memo` valid).
+  bool FaceDeviationOk(int g, const Vec3 vp[4], const FaceInfo& fi, const quad::QuadMemo& memo) const {
     if (fi.hit < 0 || !fi.ok || fi.dist > DevTol(fi.M)) return false;
     signed char side = FSide(g) ? *FSide(g) : 1;  // guess: the edge midpoints lie on the centre's side
     for (int k = 0; k < 4; ++k) {
-      int h = memo_.AcrossEdge(g, k);
+      int h = memo.AcrossEdge(g, k);
       if (h >= 0 && h < g && faceTouchesW(h)) continue;
       Vec3 pos, n;
       bool hasN = false;
-      if (!quad::EdgeMidLimit(memo_, g, k, vp, &pos, &n, &hasN)) return false;
+      if (!quad::EdgeMidLimit(memo, g, k, vp, &pos, &n, &hasN)) return false;
       if (!SampleOk(pos, hasN ? &n : nullptr, &side)) return false;
     }
     return true;
@@ -297,15 +329,23 @@ class Simplifier {
   // ring1(W): W holds every moved vertex and every vertex of a face the step's operators edited.
   // So for the others the value of an earlier step is still exact (persistent cache,
   // invalidated for R1_ at each commit); R1_'s are computed once per step (epoch cache).
-  const Vec3& RegionVertexPoint(int x) {
+  // Sequential: claims the slot of corner x if its vertex point must be computed in this step
+  // (returns true once per step and vertex; the caller computes it with ComputeVertexPoint).
+  bool ClaimVertexPoint(int x) {
     if (vmarkOf_[x] == vmark_) {  // in R1_ (the last CollectRing)
-      if (vpStamp_[x] != vpEpoch_) { vpStamp_[x] = vpEpoch_; vp_[x] = quad::VertexPoint(memo_, x); }
-      return vp_[x];
+      if (vpStamp_[x] == vpEpoch_) return false;
+      vpStamp_[x] = vpEpoch_;
+      return true;
     }
-    if (!vpcOk_[x]) { vpc_[x] = quad::VertexPoint(K, x); vpcOk_[x] = 1; }
-    else if (p_.validateEveryOperation && !(vpc_[x] == quad::VertexPoint(K, x))) ++vpcStale_;
-    return vpc_[x];
+    if (!vpcOk_[x]) { vpcOk_[x] = 1; return true; }
+    return false;
   }
+  // Any thread, once per claimed x (distinct slots, no race).
+  void ComputeVertexPoint(int x, const quad::QuadMemo& memo) {
+    if (vmarkOf_[x] == vmark_) vp_[x] = quad::VertexPoint(memo, x);
+    else vpc_[x] = quad::VertexPoint(K, x);
+  }
+  const Vec3& RegionVertexPoint(int x) const { return vmarkOf_[x] == vmark_ ? vp_[x] : vpc_[x]; }
 
   double Cost(int f, int k, const FaceInfo& fi) const {
     int a = K.F[f][k], c = K.F[f][k + 2];
@@ -385,14 +425,19 @@ class Simplifier {
         newP[i] = (1.0 - p_.smoothingWeight) * K.P[v] + p_.smoothingWeight * avg;
       }
       for (size_t i = 0; i < W.size(); ++i) K.MoveVertex(W[i], newP[i]);
-      for (size_t i = 0; i < W.size(); ++i) targets[i] = VertexTarget(W[i], &lfHit_[i]);
+      // projections (read-only but for each vertex's own side hint): in parallel
+#pragma omp parallel for num_threads(checkThreads_) if (checkThreads_ > 1 && W.size() >= 8) schedule(dynamic, 2)
+      for (long i = 0; i < long(W.size()); ++i) targets[i] = VertexTarget(W[i], &lfHit_[i]);
       quad::SolveInterpolationLocal(K, W, targets, tol_, p_.localSolveIterations);
     }
   }
 
   // Undoes the step being checked (test mode: after verifying the memo the checks used).
   int Refuse(int code) {
-    if (p_.validateEveryOperation) memoStale_ += memo_.CountStale();
+    if (p_.validateEveryOperation) {
+      memoStale_ += memo_.CountStale();
+      for (const auto& m : threadMemos_) memoStale_ += m.CountStale();
+    }
     K.Rollback();
     return code;
   }
@@ -465,8 +510,10 @@ class Simplifier {
     }
     std::vector<int> W;
     CollectRing(affected, W);
+    workUnits_ += long(W.size());  // the step's size (with the checked elements below)
     LocalFit(W);
     memo_.Reset();  // positions and connectivity are frozen from here to Commit/Rollback
+    for (auto& m : threadMemos_) m.Reset();
     // flip test on everything whose limit changed: vertices of ring1(W) (their limit normal
     // depends on their 1-ring) and the faces incident to them (centre limit depends on the
     // corners' 1-rings); stops at the first element that agreed with the input and does not now
@@ -478,37 +525,71 @@ class Simplifier {
     for (int v : R1_)
       for (int g : K.VF(v))
         if (fmarkOf_[g] != fmark_) { fmarkOf_[g] = fmark_; region_.push_back(g); }
+    workUnits_ += long(R1_.size() + region_.size());
     newVok_.resize(R1_.size());
     newVhit_.resize(R1_.size());
-    for (size_t i = 0; i < R1_.size(); ++i) {
-      int v = R1_[i];
-      bool inW = vmarkOfW(v);
-      newVok_[i] = inW ? VertexOkAfterFit(v, lfTargets_[wIndex_[v]], lfHit_[wIndex_[v]], &newVhit_[i])
-                       : VertexOkFast(v, &newVhit_[i]);
-      if (vok_[v] && !newVok_[i]) return Refuse(2);
-    }
     newInfo_.resize(region_.size());
+    regionTouchesW_.resize(region_.size());
+    devOk_.resize(region_.size());
+    // Sequential part: which corners' vertex points to compute (shared caches).
     ++vpEpoch_;
+    vpTodo_.clear();
     for (size_t i = 0; i < region_.size(); ++i) {
       const int g = region_[i];
-      Vec3 vp[4];
       bool touchesW = false;
       for (int k = 0; k < 4; ++k) {
         int x = K.F[g][k];
         touchesW |= vmarkOfW(x);
-        vp[k] = RegionVertexPoint(x);
+        if (ClaimVertexPoint(x)) vpTodo_.push_back(x);
       }
-      bool done = false;
-      if (!touchesW && info_[g].ok && info_[g].hit >= 0) {
-        FaceInfo fi = info_[g];
-        Vec3 n;
-        if (quad::FaceCentreLimit(memo_, g, vp, &fi.c, &n) && FN_[fi.hit].dot(n) > 0) { newInfo_[i] = fi; done = true; }
-      }
-      if (!done) newInfo_[i] = EvalFace(g, vp);
-      if (info_[g].ok && !newInfo_[i].ok) return Refuse(2);
-      if (touchesW && p_.deviationFactor > 0 && !FaceDeviationOk(g, vp, newInfo_[i])) return Refuse(3);
+      regionTouchesW_[i] = touchesW;
     }
-    if (p_.validateEveryOperation) memoStale_ += memo_.CountStale();
+    // The checks only read shared state (each element writes its own slots and its own side
+    // hint, which never changes an answer; each thread has its own memo), so they run in
+    // parallel (checkThreads_). Every check runs; the first failure in the sequential order
+    // decides the refusal code, exactly as the sequential loop would.
+#pragma omp parallel num_threads(checkThreads_) if (checkThreads_ > 1 && R1_.size() + region_.size() >= 16)
+    {
+      const quad::QuadMemo& memo = ThreadMemo();
+#pragma omp for schedule(dynamic, 8)
+      for (long i = 0; i < long(vpTodo_.size()); ++i) ComputeVertexPoint(vpTodo_[i], memo);
+#pragma omp for schedule(dynamic, 4) nowait
+      for (long i = 0; i < long(R1_.size()); ++i) {
+        const int v = R1_[i];
+        newVok_[i] = vmarkOfW(v) ? VertexOkAfterFit(v, lfTargets_[wIndex_[v]], lfHit_[wIndex_[v]], &newVhit_[i])
+                                 : VertexOkFast(v, &newVhit_[i]);
+      }
+#pragma omp for schedule(dynamic, 2)
+      for (long i = 0; i < long(region_.size()); ++i) {
+        const int g = region_[i];
+        Vec3 vp[4];
+        for (int k = 0; k < 4; ++k) vp[k] = RegionVertexPoint(K.F[g][k]);
+        bool done = false;
+        if (!regionTouchesW_[i] && info_[g].ok && info_[g].hit >= 0) {
+          FaceInfo fi = info_[g];
+          Vec3 n;
+          if (quad::FaceCentreLimit(memo, g, vp, &fi.c, &n) && FN_[fi.hit].dot(n) > 0) { newInfo_[i] = fi; done = true; }
+        }
+        if (!done) newInfo_[i] = EvalFace(g, vp, &memo);
+        // the guard (not needed when this face's flip check already refuses the step)
+        const bool guard = regionTouchesW_[i] && p_.deviationFactor > 0 && !(info_[g].ok && !newInfo_[i].ok);
+        devOk_[i] = !guard || FaceDeviationOk(g, vp, newInfo_[i], memo);
+      }
+    }
+    if (p_.validateEveryOperation)  // the persistent vertex points used must still be exact
+      for (int g : region_)
+        for (int x : K.F[g])
+          if (vmarkOf_[x] != vmark_ && !(vpc_[x] == quad::VertexPoint(K, x))) ++vpcStale_;
+    for (size_t i = 0; i < R1_.size(); ++i)
+      if (vok_[R1_[i]] && !newVok_[i]) return Refuse(2);
+    for (size_t i = 0; i < region_.size(); ++i) {
+      if (info_[region_[i]].ok && !newInfo_[i].ok) return Refuse(2);
+      if (!devOk_[i]) return Refuse(3);
+    }
+    if (p_.validateEveryOperation) {
+      memoStale_ += memo_.CountStale();
+      for (const auto& m : threadMemos_) memoStale_ += m.CountStale();
+    }
     K.Commit();
     for (int v : R1_) vpcOk_[v] = 0;  // their committed vertex points changed
     for (int g : region_)
@@ -525,6 +606,10 @@ class Simplifier {
   }
 
   bool Run(Progress& prog) {
+#ifdef _OPENMP
+    checkThreads_ = std::max(1, omp_get_max_threads());
+#endif
+    threadMemos_.assign(checkThreads_ - 1, quad::QuadMemo(K));
     const int nf = K.NumFaceSlots(), nv = K.NumVertexSlots();
     info_.assign(nf, FaceInfo());
     vside_.assign(nv, 1);
@@ -555,6 +640,13 @@ class Simplifier {
     QuadMesh::Invariants inv;
     if (p_.validateEveryOperation) inv = K.ComputeInvariants();
     const int initial = K.NumFaces();
+    const int maxThreads = checkThreads_;
+    using PC = QuadSimplifyParams::ParallelChecks;
+    AdaptiveParallelism mode(maxThreads > 1 && p_.parallelChecks == PC::Adaptive);
+    int blockSteps = 0, parallelSteps = 0, steps = 0;
+    auto blockStart = std::chrono::steady_clock::now();
+    auto threadsFor = [&](bool parallel) { return p_.parallelChecks == PC::Always || parallel ? maxThreads : 1; };
+    checkThreads_ = threadsFor(mode.Parallel());
     while (!heap_.empty()) {
       if (p_.targetPatches > 0 && K.NumFaces() <= p_.targetPatches) break;
       Entry e = heap_.top();
@@ -566,6 +658,16 @@ class Simplifier {
         continue;
       }
       int r = Step(e.f, e.k());
+      ++steps;
+      parallelSteps += checkThreads_ > 1 ? 1 : 0;
+      if (++blockSteps == mode.BlockSteps()) {
+        const auto now = std::chrono::steady_clock::now();
+        checkThreads_ = threadsFor(
+            mode.EndBlock(std::chrono::duration<double>(now - blockStart).count() / std::max<long>(1, workUnits_)));
+        blockStart = now;
+        workUnits_ = 0;
+        blockSteps = 0;
+      }
       if (r == 1) ++res_.rejectedTopology;
       if (r == 2) ++res_.rejectedFlip;
       if (r == 3) ++res_.rejectedDeviation;
@@ -581,6 +683,7 @@ class Simplifier {
       }
       prog(100.0 * (initial - K.NumFaces()) / std::max(1, initial), "Quad simplification");
     }
+    res_.parallelStepShare = steps > 0 ? double(parallelSteps) / steps : 0.0;
     return true;
   }
 
@@ -679,7 +782,21 @@ class Simplifier {
   long vpcStale_ = 0;         ///< test mode: cached vertex points found stale (must stay 0)
   long memoStale_ = 0;        ///< test mode: memo_ entries found stale (must stay 0)
   quad::QuadMemo memo_{K};    ///< centroids / neighbours during the checks of a step
+  std::vector<quad::QuadMemo> threadMemos_;  ///< the same for check threads 1.. (thread 0: memo_)
+  // this thread's memo during the parallel checks
+  const quad::QuadMemo& ThreadMemo() const {
+#ifdef _OPENMP
+    const int t = omp_get_thread_num();
+    if (t > 0 && t <= int(threadMemos_.size())) return threadMemos_[t - 1];
+#endif
+    return memo_;
+  }
   unsigned vpEpoch_ = 0;
+  // per-step check buffers (index = position in region_)
+  std::vector<int> vpTodo_;  ///< corners whose vertex point this step computes
+  std::vector<char> regionTouchesW_, devOk_;
+  int checkThreads_ = 1;  ///< threads for a step's checks and projections (AdaptiveParallelism)
+  long workUnits_ = 0;    ///< work of the steps of the current block (W, ring1(W) and faces checked)
   mutable std::vector<char> limOk_;
   mutable std::vector<signed char> vside_, fside_;  ///< see VSide / FSide
   std::vector<unsigned> stamp_;

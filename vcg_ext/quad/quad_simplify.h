@@ -55,7 +55,48 @@ struct QuadSimplifyParams {
   double maxDeviationPercent = 0.0;
   bool finalReinterpolation = true;  ///< one global solve at the end: all limit vertices back onto the input
   bool validateEveryOperation = false;  ///< test mode: full validity check after every step (O(F) each)
+  /// Threads for a step's checks and projections (OpenMP's maximum when parallel): chosen from
+  /// measured speed (AdaptiveParallelism, default), never, or always (tests). Same result.
+  enum class ParallelChecks { Adaptive, Never, Always } parallelChecks = ParallelChecks::Adaptive;
   quad::TriToQuadParams triToQuad;
+};
+
+/// Chooses, block by block, whether a simplification step's checks and projections run on
+/// several threads (beyond the paper; docs/quad.md "Limitations"). On idle cores the parallel checks
+/// save ~25 %, but one fork/join per step collapses when another process holds a core (bunny00:
+/// 23 s instead of 7 s with one busy core, 74 s instead of 10 s with two). The choice follows
+/// measured time per step (blocks of steps vary in cost, hence the margins): a probe of the other
+/// mode after `probe` blocks switches only if it is 15 % faster, and each probe that does not
+/// doubles that interval (minProbe .. maxProbe); the current mode is left at once when it is
+/// 1.5x slower than the other's latest figure (the load changed). It starts serial, and the
+/// parallel mode runs in short blocks (probes shorter still), since it is the one that can be
+/// very slow. The
+/// simplification's result never depends on the mode.
+class AdaptiveParallelism {
+ public:
+  explicit AdaptiveParallelism(bool allowed, int serialSteps = 128, int parallelSteps = 64, int probeSteps = 16,
+                               int minProbe = 4, int maxProbe = 256)
+      : allowed_(allowed), serialSteps_(serialSteps), parallelSteps_(parallelSteps), probeSteps_(probeSteps),
+        probe_(minProbe), minProbe_(minProbe), maxProbe_(maxProbe) {}
+  bool Parallel() const { return par_; }
+  /// Steps in the current block: serial blocks are long (steady figures), parallel ones short
+  /// (a wrong choice costs little), parallel probes shorter still.
+  int BlockSteps() const { return !par_ ? serialSteps_ : probing_ ? probeSteps_ : parallelSteps_; }
+  /// Ends a block that took `secondsPerUnit` in the current mode (time per unit of work: steps
+  /// vary in size, so the caller divides by a work measure); returns the next block's mode.
+  bool EndBlock(double secondsPerUnit);
+  int Switches() const { return switches_; }
+  int ParallelBlocks() const { return parallelBlocks_; }
+  int Blocks() const { return blocks_; }
+
+ private:
+  void Switch(bool probe);
+  bool allowed_, par_ = false;
+  int serialSteps_, parallelSteps_, probeSteps_;
+  double last_[2] = {-1, -1};  ///< latest seconds per step: [serial, parallel]
+  int probe_, minProbe_, maxProbe_, sinceProbe_ = 0;
+  bool probing_ = false;
+  int switches_ = 0, parallelBlocks_ = 0, blocks_ = 0;
 };
 
 /// Outcome and statistics. `error` non-empty: nothing else is meaningful. `message` carries
@@ -75,6 +116,7 @@ struct QuadSimplifyResult {
   int rejectedTopology = 0;       ///< refused by the operators (link condition, boundary, valence)
   int rejectedFlip = 0;           ///< undone because a patch flipped against the input / left it
   int rejectedDeviation = 0;      ///< undone by the geometric guard (limit samples too far from the input)
+  double parallelStepShare = 0;   ///< share of the steps whose checks ran on several threads (AdaptiveParallelism)
   int flippedPatches = 0;         ///< final patches whose centre normal disagrees with the input (or miss it)
   int flippedVertices = 0;        ///< final interior vertices whose limit normal disagrees likewise
   int initialFlippedPatches = 0;  ///< the same counts on the initial interpolating mesh (noisy scans)
