@@ -409,6 +409,19 @@ TEST(AdaptiveParallelism, FollowsTheFasterModeAndTheLoad) {
   EXPECT_LT(simulate(loaded, 1000, 1.0, 5.0), 0.01);
   EXPECT_FALSE(loaded.Parallel());
 
+  // Under load a short parallel probe can look fast while longer parallel blocks are slow: the
+  // confirmation block must keep the parallel share small.
+  vcgext::AdaptiveParallelism optimistic(true);
+  long par = 0, all = 0;
+  for (int b = 0; b < 1000; ++b) {
+    const int n = optimistic.BlockSteps();
+    const bool probe = optimistic.Parallel() && n < 64;
+    all += n;
+    par += optimistic.Parallel() ? n : 0;
+    optimistic.EndBlock(!optimistic.Parallel() ? 1.0 : probe ? 0.6 : 2.0);
+  }
+  EXPECT_LT(double(par) / all, 0.02);
+
   // Load appears after an idle stretch: serial again within two blocks.
   vcgext::AdaptiveParallelism change(true);
   simulate(change, 300, 1.0, 0.7);

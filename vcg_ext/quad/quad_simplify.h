@@ -70,7 +70,7 @@ struct QuadSimplifyParams {
 /// doubles that interval (minProbe .. maxProbe); the current mode is left at once when it is
 /// 1.5x slower than the other's latest figure (the load changed). It starts serial, and the
 /// parallel mode runs in short blocks (probes shorter still), since it is the one that can be
-/// very slow. The
+/// very slow; a parallel probe that wins must be confirmed by the next regular block. The
 /// simplification's result never depends on the mode.
 class AdaptiveParallelism {
  public:
@@ -95,7 +95,7 @@ class AdaptiveParallelism {
   int serialSteps_, parallelSteps_, probeSteps_;
   double last_[2] = {-1, -1};  ///< latest seconds per step: [serial, parallel]
   int probe_, minProbe_, maxProbe_, sinceProbe_ = 0;
-  bool probing_ = false;
+  bool probing_ = false, confirming_ = false;
   int switches_ = 0, parallelBlocks_ = 0, blocks_ = 0;
 };
 
