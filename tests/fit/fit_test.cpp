@@ -618,7 +618,7 @@ TEST(FitDisplacement, BeatsPointSamplesAndStaysSeamless) {
   EXPECT_LT(fitted.metrics.rmsDisplacedToRefPermille, fitted.metrics.rmsLimitPermille);
 }
 
-// Invalid parameters leave the atlas as baked.
+// Invalid parameters or an atlas of another layout leave the atlas as baked.
 TEST(FitDisplacement, InvalidParametersLeaveTheAtlasUntouched) {
   TriData ref = BumpySphere(3, 0.02);
   EmbreeScene scene(ref);
@@ -630,9 +630,44 @@ TEST(FitDisplacement, InvalidParametersLeaveTheAtlasUntouched) {
     DisplacementFitParams p;
     p.iterations = iters;
     p.anchorWeight = anchor;
-    EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, p, a).fitted);
+    EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, 0.2, p, a).fitted);
     EXPECT_TRUE(a.q16 == before);
   }
+  EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, 0.0, {}, a).fitted);  // no range
+  DisplacementAtlas other = a;
+  other.cols = 1;  // a layout that does not hold every patch
+  other.rows = 1;
+  EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, 0.2, {}, other).fitted);
+  EXPECT_TRUE(other.q16 == before);
+}
+
+// Reference vertices beyond the bake's range (maxDist) give no rows: outliers far from the
+// surface leave the fitted texels exactly as without them, and every texel stays within
+// ±maxDist.
+TEST(FitDisplacement, IgnoresReferenceVerticesBeyondTheRange) {
+  TriData ref = BumpySphere(4, 0.02);
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(2, 0.0, 1);
+  LimitSurface ls = LimitSurface::FromQuads(q);
+  const double maxDist = 0.05;
+  const DisplacementAtlas baked = BakeDisplacement(ls, q.V, ref, scene, 5, maxDist, false);
+  DisplacementAtlas clean = baked, withOutliers = baked;
+  const auto s1 = FitDisplacement(ls, q.V, ref, 0, maxDist, {}, clean);
+  TriData noisy = ref;
+  for (int k = 0; k < 200; ++k) {  // a cloud 0.3-0.5 outside the sphere (radius 0.5)
+    const Vec3 dir = Vec3(std::sin(0.7 * k), std::cos(1.3 * k), std::sin(2.1 * k + 0.4)).normalized();
+    noisy.V.push_back((0.8 + 0.2 * std::sin(0.37 * k) * std::sin(0.37 * k)) * dir);
+  }
+  const auto s2 = FitDisplacement(ls, q.V, noisy, 0, maxDist, {}, withOutliers);
+  ASSERT_TRUE(s1.fitted && s2.fitted);
+  ASSERT_GE(s1.iterations, 1);
+  EXPECT_EQ(s2.iterations, s1.iterations);
+  EXPECT_TRUE(withOutliers.q16 == clean.q16);
+  EXPECT_EQ(withOutliers.offset, clean.offset);
+  EXPECT_EQ(withOutliers.scale, clean.scale);
+  for (int f = 0; f < ls.NumFaces(); ++f)
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) EXPECT_LE(std::abs(withOutliers.Decoded(f, i, j)), maxDist * (1 + 1e-6));
 }
 
 // FoldedTriangles (report: folded_triangles_*): a tube (closed around, open along its straight

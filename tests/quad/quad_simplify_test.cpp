@@ -377,6 +377,9 @@ TEST(QuadSimplify, ThreadCountDoesNotChangeTheResult) {
     EXPECT_EQ(r->rejectedByM, r1.rejectedByM);
     EXPECT_EQ(r->rejectedFlip, r1.rejectedFlip);
     EXPECT_EQ(r->rejectedDeviation, r1.rejectedDeviation);
+    EXPECT_EQ(r->rejectedTopology, r1.rejectedTopology);
+    EXPECT_EQ(r->flippedPatches, r1.flippedPatches);
+    EXPECT_EQ(r->flippedVertices, r1.flippedVertices);
   }
 }
 
@@ -425,6 +428,7 @@ TEST(AdaptiveParallelism, FollowsTheFasterModeAndTheLoad) {
   // Load appears after an idle stretch: serial again within two blocks.
   vcgext::AdaptiveParallelism change(true);
   simulate(change, 300, 1.0, 0.7);
+  for (int b = 0; b < 20 && !change.Parallel(); ++b) change.EndBlock(1.0);  // (a serial probe may be running)
   ASSERT_TRUE(change.Parallel());
   change.EndBlock(5.0);
   if (change.Parallel()) change.EndBlock(5.0);
@@ -432,4 +436,19 @@ TEST(AdaptiveParallelism, FollowsTheFasterModeAndTheLoad) {
   // ... and it goes parallel again once the load is gone.
   EXPECT_GT(simulate(change, 2000, 1.0, 0.7), 0.5);
   EXPECT_TRUE(change.Parallel());
+
+  // A brief load after a long parallel stretch (the serial probes have backed off to their
+  // longest interval) must not keep it serial for long once the load is gone.
+  vcgext::AdaptiveParallelism burst(true);
+  simulate(burst, 2000, 1.0, 0.7);
+  for (int b = 0; b < 20 && !burst.Parallel(); ++b) burst.EndBlock(1.0);
+  ASSERT_TRUE(burst.Parallel());
+  burst.EndBlock(5.0);  // one slow parallel block: back to serial
+  ASSERT_FALSE(burst.Parallel());
+  int serialBlocks = 0;
+  while (!burst.Parallel() && serialBlocks < 1000) {
+    burst.EndBlock(burst.Parallel() ? 0.7 : 1.0);
+    ++serialBlocks;
+  }
+  EXPECT_LE(serialBlocks, 10);
 }

@@ -274,10 +274,17 @@ class DisplacedModel {
 }  // namespace
 
 DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
-                                     int minSegments, const DisplacementFitParams& p, DisplacementAtlas& a) {
+                                     int minSegments, double maxDist, const DisplacementFitParams& p,
+                                     DisplacementAtlas& a) {
   DisplacementFitStats st;
   const int nF = ls.NumFaces();
-  if (!ls.Ok() || nF == 0 || a.R < 2 || ref.V.empty() || p.iterations < 1 || !(p.anchorWeight > 0)) return st;
+  if (!ls.Ok() || nF == 0 || a.R < 2 || ref.V.empty() || p.iterations < 1 || !(p.anchorWeight > 0) ||
+      !(maxDist > 0))
+    return st;
+  // the atlas must be a layout of this surface (BakeDisplacement's)
+  if (a.cols < 1 || a.rows < 1 || size_t(a.cols) * a.rows < size_t(nF) || a.width != a.cols * a.R ||
+      a.height != a.rows * a.R || a.disp.size() != size_t(a.width) * a.height)
+    return st;
   const DisplacedModel model(ls, ctrl, a.R, minSegments);
   const LimitTessellation& base = model.Base();
   const int nX = model.NumTexels();
@@ -303,7 +310,9 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
       const EmbreeScene::Hit h = scene.ClosestPoint(x);
       rowLen[r] = 0;
       dist[r] = h.valid ? (h.point - x).norm() : 0.0;
-      if (!h.valid) continue;
+      // no row for reference parts farther than the bake's range (not covered by the control
+      // mesh, outliers): the texels must not be pulled there (they stay within ±maxDist)
+      if (!h.valid || dist[r] > maxDist) continue;
       const auto& tri = dm.F[h.face];
       const double b[3] = {1 - h.u - h.v, h.u, h.v};
       Vec3 m = (dm.V[tri[1]] - dm.V[tri[0]]).cross(dm.V[tri[2]] - dm.V[tri[0]]);
@@ -330,7 +339,10 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
     double sum = 0;
     for (int r = 0; r < nR; ++r) sum += dist[r] * dist[r];
     const double rms = std::sqrt(sum / nR);
-    if (it == 0) st.rmsBefore = rms;
+    if (it == 0) {
+      st.rmsBefore = rms;
+      st.fitted = true;  // evaluated: from here the stats are meaningful
+    }
     if (!(rms < bestRms)) break;  // no improvement: keep the previous iterate
     bestRms = rms;
     best = d;
@@ -338,7 +350,9 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
     if (it == p.iterations) break;
     // Normal equations (AᵀA + w_a I) d = Aᵀb + w_a d0.
     std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(size_t(nR) * 9 + nX);
+    size_t entries = size_t(nX);
+    for (int r = 0; r < nR; ++r) entries += size_t(rowLen[r]) * rowLen[r];
+    trip.reserve(entries);
     Eigen::VectorXd rhs = p.anchorWeight * d0;
     for (int r = 0; r < nR; ++r)
       for (int s1 = 0; s1 < rowLen[r]; ++s1) {
@@ -353,12 +367,13 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
     if (solver.info() != Eigen::Success) break;
     Eigen::VectorXd dn = solver.solve(rhs);
     if (solver.info() != Eigen::Success || !dn.allFinite()) break;
-    d = dn;
+    d = dn.cwiseMax(-maxDist).cwiseMin(maxDist);
   }
   st.rmsAfter = std::isfinite(bestRms) ? bestRms : st.rmsBefore;
-  model.Scatter(best, a);
-  Quantize(a, nF);
-  st.fitted = true;
+  if (st.iterations > 0) {  // a solve was kept (else the atlas stays exactly as baked)
+    model.Scatter(best, a);
+    Quantize(a, nF);
+  }
   return st;
 }
 
@@ -493,7 +508,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   const int R = p.textureResolution > 0 ? p.textureResolution : AutoTextureResolution(r.referenceVertices, ls.NumFaces());
   r.atlas = BakeDisplacement(ls, ctrl, ref, scene, R, maxDist, p.normalMap);
   if (p.fitDisplacement)
-    r.displacementFit = FitDisplacement(ls, ctrl, ref, p.limitSegments, p.displacementFit, r.atlas);
+    r.displacementFit = FitDisplacement(ls, ctrl, ref, p.limitSegments, maxDist, p.displacementFit, r.atlas);
   r.displaced = DisplacedSurface(ls, ctrl, r.atlas, p.limitSegments);
   r.displaced.quality = SignedDistanceToReference(r.displaced.mesh.V, scene, std::numeric_limits<double>::infinity());
   r.times.emplace_back("bake", Since(t));

@@ -89,7 +89,7 @@ struct DisplacementFitParams {
 /// What FitDisplacement did (errors: RMS distance of the reference vertices to the displaced
 /// layer before quantization, absolute units).
 struct DisplacementFitStats {
-  bool fitted = false;
+  bool fitted = false;        ///< the fit ran (the atlas may still be unchanged: iterations == 0)
   int iterations = 0;         ///< solves kept (0: the point samples were best)
   double rmsBefore = 0, rmsAfter = 0;
 };
@@ -103,14 +103,17 @@ struct DisplacementFitStats {
 /// the texels along the limit normals; d_ray = the point-sampled value (the anchor keeps texels
 /// no reference vertex sees, and the system definite). Texels on shared tile edges/corners are
 /// one unknown, so the tiles stay seamless. Each round recomputes the foot points on the new
-/// surface; the best round (by the RMS) is kept, the point samples if no round improves.
-/// Re-quantizes the atlas. Why: with about one texel per reference vertex, point samples
+/// surface; the best round (by the RMS) is kept, the point samples if no round improves (the
+/// atlas is then left exactly as baked). Reference vertices farther than maxDist from the
+/// displaced layer (parts the control mesh does not cover, outliers) give no row, and the texels
+/// stay within ±maxDist, the bake's own range. Re-quantizes the atlas when a solve is kept. Why: with about one texel per reference vertex, point samples
 /// between which the reference is rough or the texels are sparse (stretched patches) leave
 /// the reference vertices off the bilinear surface; the fit places the same texels where the
 /// reference vertices are. Cost: (iterations+1) closest-point passes over the reference plus a
 /// sparse Cholesky of one unknown per texel.
 DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
-                                     int minSegments, const DisplacementFitParams& p, DisplacementAtlas& a);
+                                     int minSegments, double maxDist, const DisplacementFitParams& p,
+                                     DisplacementAtlas& a);
 
 /// Triangles of a (displaced) tessellation facing against the limit normals of their corners
 /// (sum of the three): folds, where the displacement along converging normals crosses over.

@@ -105,7 +105,10 @@ bool AdaptiveParallelism::EndBlock(double secondsPerUnit) {
     return par_;
   }
   if (other < 0 || ++sinceProbe_ >= probe_) Switch(true);      // never measured / time to probe
-  else if (secondsPerUnit > 1.5 * other) Switch(false);         // clearly slower now (load changed)
+  else if (secondsPerUnit > 1.5 * other) {                      // clearly slower now (load changed):
+    Switch(false);
+    probe_ = minProbe_;  // the backoff of the old mode's probes does not apply to the new one
+  }
   return par_;
 }
 
@@ -523,7 +526,8 @@ class Simplifier {
     for (auto& m : threadMemos_) m.Reset();
     // flip test on everything whose limit changed: vertices of ring1(W) (their limit normal
     // depends on their 1-ring) and the faces incident to them (centre limit depends on the
-    // corners' 1-rings); stops at the first element that agreed with the input and does not now
+    // corners' 1-rings); refused if an element that agreed with the input does not now (all
+    // elements are evaluated, the first failure in this order gives the refusal code)
     ++wmark_;
     for (size_t i = 0; i < W.size(); ++i) { wmarkOf_[W[i]] = wmark_; wIndex_[W[i]] = int(i); }
     CollectRing(W, R1_);
@@ -614,7 +618,8 @@ class Simplifier {
 
   bool Run(Progress& prog) {
 #ifdef _OPENMP
-    checkThreads_ = std::max(1, omp_get_max_threads());
+    // at most 2: a step checks a few dozen to a few hundred elements, and 2 is what was measured
+    checkThreads_ = std::clamp(omp_get_max_threads(), 1, 2);
 #endif
     threadMemos_.assign(checkThreads_ - 1, quad::QuadMemo(K));
     const int nf = K.NumFaceSlots(), nv = K.NumVertexSlots();
@@ -667,7 +672,7 @@ class Simplifier {
       int r = Step(e.f, e.k());
       ++steps;
       parallelSteps += checkThreads_ > 1 ? 1 : 0;
-      if (++blockSteps == mode.BlockSteps()) {
+      if (++blockSteps >= mode.BlockSteps()) {
         const auto now = std::chrono::steady_clock::now();
         checkThreads_ = threadsFor(
             mode.EndBlock(std::chrono::duration<double>(now - blockStart).count() / std::max<long>(1, workUnits_)));
