@@ -114,6 +114,20 @@ struct JsonParser {
   }
 };
 
+// An atlas of `faces` R×R tiles whose every texel decodes to `offset` (all q16 = 0, scale 1).
+DisplacementAtlas ConstantAtlas(int faces, int R, double offset) {
+  DisplacementAtlas a;
+  a.R = R;
+  a.cols = int(std::ceil(std::sqrt(double(faces))));
+  a.rows = (faces + a.cols - 1) / a.cols;
+  a.width = a.cols * a.R;
+  a.height = a.rows * a.R;
+  a.q16.assign(size_t(a.width) * a.height, 0);
+  a.scale = 1.0;
+  a.offset = offset;
+  return a;
+}
+
 // A bumpy sphere as reference (dense), radius ~0.5.
 TriData BumpySphere(int level, double amp) {
   TriData t = testsupport::Icosphere(level, 0.5);
@@ -462,15 +476,7 @@ TEST(DisplacedSurface, IsNeverCoarserThanTheLimitLayer) {
     for (int i = 0; i < n; ++i) q.F.push_back({j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i});
   auto ls = vcgext::LimitSurface::FromQuads(q);
   ASSERT_TRUE(ls.Ok());
-  vcgext::DisplacementAtlas a;
-  a.R = 2;
-  a.cols = n;
-  a.rows = n;
-  a.width = a.cols * a.R;
-  a.height = a.rows * a.R;
-  a.q16.assign(size_t(a.width) * a.height, 0);
-  a.scale = 1.0;
-  a.offset = 0.0;
+  vcgext::DisplacementAtlas a = ConstantAtlas(n * n, 2, 0.0);
   vcgext::LimitTessellation lim = vcgext::TessellateLimit(ls, q.V, 8);
   vcgext::LimitTessellation d = vcgext::DisplacedSurface(ls, q.V, a, 8);
   ASSERT_EQ(d.mesh.V.size(), lim.mesh.V.size());
@@ -693,14 +699,7 @@ TEST(FitDisplacement, FoldedTrianglesCountsInversions) {
   ASSERT_TRUE(ls.Ok()) << ls.Error();
   LimitTessellation lim = TessellateLimit(ls, q.V, 6);
   EXPECT_EQ(FoldedTriangles(lim), 0);
-  DisplacementAtlas a;
-  a.R = 4;
-  a.cols = int(std::ceil(std::sqrt(double(q.F.size()))));
-  a.rows = (int(q.F.size()) + a.cols - 1) / a.cols;
-  a.width = a.cols * a.R;
-  a.height = a.rows * a.R;
-  a.q16.assign(size_t(a.width) * a.height, 0);
-  a.scale = 1.0;
+  DisplacementAtlas a = ConstantAtlas(int(q.F.size()), 4, 0.0);
   auto foldsAt = [&](double c) {
     a.offset = c;
     return FoldedTriangles(DisplacedSurface(ls, q.V, a, 6));

@@ -123,19 +123,36 @@ int AutoTextureResolution(int referenceVertices, int patches) {
 }
 
 namespace {
+// The bilinear texture filter of a tile with T texel intervals per side (texel (i,j) at
+// (u,v) = (i/T, j/T)): the cell's lower texel and the weights of texels (i,j), (i+1,j), (i,j+1),
+// (i+1,j+1). DisplacedSurface and the texel fit must filter identically.
+struct TileCell {
+  int i, j;
+  double w[4];
+};
+TileCell CellAt(const Eigen::Vector2d& uv, int T) {
+  const double x = std::clamp(uv[0], 0.0, 1.0) * T, y = std::clamp(uv[1], 0.0, 1.0) * T;
+  TileCell c;
+  c.i = std::min(int(x), T - 1);
+  c.j = std::min(int(y), T - 1);
+  const double fx = x - c.i, fy = y - c.j;
+  c.w[0] = (1 - fx) * (1 - fy);
+  c.w[1] = fx * (1 - fy);
+  c.w[2] = (1 - fx) * fy;
+  c.w[3] = fx * fy;
+  return c;
+}
+
 // 16-bit quantization over the tiles actually used: disp ≈ offset + scale · q16.
 void Quantize(DisplacementAtlas& a, int nF) {
-  const int R = a.R;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (int f = 0; f < nF; ++f) {
-    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
-    for (int j = 0; j < R; ++j)
-      for (int i = 0; i < R; ++i) {
-        double d = a.disp[size_t(y0 + j) * a.width + x0 + i];
+  for (int f = 0; f < nF; ++f)
+    for (int j = 0; j < a.R; ++j)
+      for (int i = 0; i < a.R; ++i) {
+        double d = a.disp[a.Pixel(f, i, j)];
         lo = std::min(lo, d);
         hi = std::max(hi, d);
       }
-  }
   a.offset = lo;
   a.scale = hi > lo ? (hi - lo) / 65535.0 : 0.0;
   a.q16.assign(a.disp.size(), 0);
@@ -163,7 +180,6 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   int misses = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : misses)
   for (int f = 0; f < nF; ++f) {
-    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
     for (int j = 0; j < R; ++j)
       for (int i = 0; i < R; ++i) {
         Vec3 n;
@@ -178,7 +194,7 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
           h = scene.ClosestPoint(P, maxDist);
           if (h.valid) d = (h.point - P).dot(n);
         }
-        const size_t px = size_t(y0 + j) * a.width + x0 + i;
+        const size_t px = a.Pixel(f, i, j);
         a.disp[px] = float(d);
         if (normalMap) {
           Vec3 nn = n;
@@ -222,11 +238,11 @@ class DisplacedModel {
     bt_.resize(nB);
     bw_.resize(nB);
     for (int k = 0; k < nB; ++k) {
-      const double x = std::clamp(base_.uv[k][0], 0.0, 1.0) * T_, y = std::clamp(base_.uv[k][1], 0.0, 1.0) * T_;
-      const int i = std::min(int(x), T_ - 1), j = std::min(int(y), T_ - 1), f = base_.face[k];
-      const double fx = x - i, fy = y - j;
-      bt_[k] = {Tex().GridId(f, i, j), Tex().GridId(f, i + 1, j), Tex().GridId(f, i, j + 1), Tex().GridId(f, i + 1, j + 1)};
-      bw_[k] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+      const TileCell c = CellAt(base_.uv[k], T_);
+      const int f = base_.face[k];
+      bt_[k] = {Tex().GridId(f, c.i, c.j), Tex().GridId(f, c.i + 1, c.j), Tex().GridId(f, c.i, c.j + 1),
+                Tex().GridId(f, c.i + 1, c.j + 1)};
+      bw_[k] = {c.w[0], c.w[1], c.w[2], c.w[3]};
     }
   }
   const LimitTessellation& Base() const { return base_; }
@@ -240,14 +256,14 @@ class DisplacedModel {
     Eigen::VectorXd d(NumTexels());
     for (int f = 0; f < nF_; ++f)
       for (int j = 0; j <= T_; ++j)
-        for (int i = 0; i <= T_; ++i) d[Tex().GridId(f, i, j)] = a.disp[Pixel(a, f, i, j)];
+        for (int i = 0; i <= T_; ++i) d[Tex().GridId(f, i, j)] = a.disp[a.Pixel(f, i, j)];
     return d;
   }
   // Writes the texel values into every tile (shared texels into each tile that has them).
   void Scatter(const Eigen::VectorXd& d, DisplacementAtlas& a) const {
     for (int f = 0; f < nF_; ++f)
       for (int j = 0; j <= T_; ++j)
-        for (int i = 0; i <= T_; ++i) a.disp[Pixel(a, f, i, j)] = float(d[Tex().GridId(f, i, j)]);
+        for (int i = 0; i <= T_; ++i) a.disp[a.Pixel(f, i, j)] = float(d[Tex().GridId(f, i, j)]);
   }
   double Displacement(int k, const Eigen::VectorXd& d) const {
     double s = 0;
@@ -263,9 +279,6 @@ class DisplacedModel {
   }
 
  private:
-  static size_t Pixel(const DisplacementAtlas& a, int f, int i, int j) {
-    return size_t((f / a.cols) * a.R + j) * a.width + (f % a.cols) * a.R + i;
-  }
   int T_, nF_;
   LimitTessellation base_, texGrid_;
   std::vector<std::array<int, 4>> bt_;
@@ -391,20 +404,19 @@ LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec
   const int T = a.R - 1;  // texel intervals per tile side
   LimitTessellation t = TessellateLimit(ls, ctrl, std::max(T, minSegments));
   for (size_t v = 0; v < t.mesh.V.size(); ++v) {
-    // Bilinear filtering of the tile (texel (i,j) sits at (u,v) = (i/T, j/T)).
-    const double x = std::clamp(t.uv[v][0], 0.0, 1.0) * T, y = std::clamp(t.uv[v][1], 0.0, 1.0) * T;
-    const int i = std::min(int(x), T - 1), j = std::min(int(y), T - 1);
-    const double fx = x - i, fy = y - j;
-    const int f = t.face[v];
-    const double d = (1 - fx) * (1 - fy) * a.Decoded(f, i, j) + fx * (1 - fy) * a.Decoded(f, i + 1, j) +
-                     (1 - fx) * fy * a.Decoded(f, i, j + 1) + fx * fy * a.Decoded(f, i + 1, j + 1);
+    const TileCell c = CellAt(t.uv[v], T);
+    const int f = t.face[v], i = c.i, j = c.j;
+    const double d = c.w[0] * a.Decoded(f, i, j) + c.w[1] * a.Decoded(f, i + 1, j) +
+                     c.w[2] * a.Decoded(f, i, j + 1) + c.w[3] * a.Decoded(f, i + 1, j + 1);
     t.mesh.V[v] += d * t.normal[v];
   }
   return t;
 }
 
 std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriData& surf) {
-  EmbreeScene s(surf);
+  return ReferenceToSurfaceError(ref, EmbreeScene(surf));
+}
+std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const EmbreeScene& s) {
   if (!s.Ok() || ref.V.empty()) return {0.0, 0.0};
   double sum = 0, mx = 0;
 #pragma omp parallel for schedule(static) reduction(+ : sum) reduction(max : mx)
@@ -418,7 +430,9 @@ std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriD
 }
 
 std::pair<double, double> AreaSampledDistance(const TriData& from, const TriData& to, bool threePoint) {
-  EmbreeScene s(to);
+  return AreaSampledDistance(from, EmbreeScene(to), threePoint);
+}
+std::pair<double, double> AreaSampledDistance(const TriData& from, const EmbreeScene& s, bool threePoint) {
   if (!s.Ok() || from.F.empty()) return {0.0, 0.0};
   double sw = 0, sd = 0, mx = 0;
 #pragma omp parallel for schedule(static) reduction(+ : sw, sd) reduction(max : mx)
@@ -521,7 +535,8 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
                     int(std::ceil(std::sqrt(2.0 * double(ref.F.size()) / std::max(ls.NumFaces(), 1)))));
     LimitTessellation dense = Nm == p.limitSegments ? r.limit : TessellateLimit(ls, ctrl, Nm);
     auto el = ReferenceToSurfaceError(ref, dense.mesh);
-    auto ed = ReferenceToSurfaceError(ref, r.displaced.mesh);
+    const EmbreeScene displacedScene(r.displaced.mesh);  // one scene for both displaced checks
+    auto ed = ReferenceToSurfaceError(ref, displacedScene);
     const double pm = diag > 0 ? 1000.0 / diag : 0.0;
     r.metrics.rmsLimitPermille = el.first * pm;
     r.metrics.maxLimitPermille = el.second * pm;
@@ -530,8 +545,8 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
     double mx = 0;
     for (double q : r.limit.quality) mx = std::max(mx, std::abs(q));
     r.metrics.maxLimitToRefPermille = mx * pm;
-    r.metrics.rmsDisplacedAreaPermille = AreaSampledDistance(ref, r.displaced.mesh).first * pm;
-    const auto dr = AreaSampledDistance(r.displaced.mesh, ref, true);
+    r.metrics.rmsDisplacedAreaPermille = AreaSampledDistance(ref, displacedScene).first * pm;
+    const auto dr = AreaSampledDistance(r.displaced.mesh, scene, true);  // `scene` is the reference's
     r.metrics.rmsDisplacedToRefPermille = dr.first * pm;
     r.metrics.maxDisplacedToRefPermille = dr.second * pm;
     r.metrics.displacedFolds = FoldedTriangles(r.displaced);

@@ -58,11 +58,10 @@ struct DisplacementAtlas {
   std::vector<std::uint8_t> normalRGB;  ///< optional 3·width·height object-space normal map ((n+1)/2·255)
   std::vector<std::array<Eigen::Vector2d, 4>> wedgeUV;  ///< per control quad corner, OpenGL convention (v up)
   int misses = 0;                   ///< texels whose normal ray missed (closest-point fallback used)
+  /// Index into disp / q16 (and / 3 into normalRGB) of patch f's texel (i,j).
+  size_t Pixel(int f, int i, int j) const { return size_t((f / cols) * R + j) * width + (f % cols) * R + i; }
   /// Decoded (quantized) displacement of patch f at texel (i,j).
-  double Decoded(int f, int i, int j) const {
-    const int x = (f % cols) * R + i, y = (f / cols) * R + j;
-    return offset + scale * q16[size_t(y) * width + x];
-  }
+  double Decoded(int f, int i, int j) const { return offset + scale * q16[Pixel(f, i, j)]; }
 };
 
 /// Resolution of the paper (§4): total samples ≈ reference vertices, R = round(√(nRef/F)), but at
@@ -149,6 +148,8 @@ struct FitMetrics {
 
 /// RMS / max distance (absolute) of the reference vertices to `surf`.
 std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriData& surf);
+/// Same, with a scene already built on the surface.
+std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const EmbreeScene& surf);
 
 /// RMS / max distance (absolute) from the surface `from`, sampled by area, to `to`: per triangle
 /// its centroid weighted by its area, or (threePoint) the points (2/3,1/6,1/6), (1/6,2/3,1/6),
@@ -156,6 +157,8 @@ std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriD
 /// compared to `to`'s features (a chord's centroid is its farthest point: on bunny00's displaced
 /// layer the centroid rule gives 2.72 permille where the 3-point rule gives 1.84).
 std::pair<double, double> AreaSampledDistance(const TriData& from, const TriData& to, bool threePoint = false);
+/// Same, with a scene already built on `to`.
+std::pair<double, double> AreaSampledDistance(const TriData& from, const EmbreeScene& to, bool threePoint = false);
 
 /// Share (percent) of the reference area that no normal line from the limit surface reaches
 /// first (paper §4 "projectability"): lines along ±normal from the vertices of the dense

@@ -442,12 +442,15 @@ class Simplifier {
     }
   }
 
-  // Undoes the step being checked (test mode: after verifying the memo the checks used).
+  // Test mode: every memoized entry the step's checks used must still be exact.
+  void CountStaleMemos() {
+    if (!p_.validateEveryOperation) return;
+    memoStale_ += memo_.CountStale();
+    for (const auto& m : threadMemos_) memoStale_ += m.CountStale();
+  }
+  // Undoes the step being checked (test mode: after verifying the memos the checks used).
   int Refuse(int code) {
-    if (p_.validateEveryOperation) {
-      memoStale_ += memo_.CountStale();
-      for (const auto& m : threadMemos_) memoStale_ += m.CountStale();
-    }
+    CountStaleMemos();
     K.Rollback();
     return code;
   }
@@ -555,8 +558,9 @@ class Simplifier {
       }
       regionTouchesW_[i] = touchesW;
     }
-    // The checks only read shared state (each element writes its own slots and its own side
-    // hint, which never changes an answer; each thread has its own memo), so they run in
+    // The checks only read shared state (each element writes its own result slots and its own
+    // side hint — a hint picks which ray answers a later query, so at most the rounding of that
+    // answer, and one element writes it —; each thread has its own memo), so they run in
     // parallel (checkThreads_). Every check runs; the first failure in the sequential order
     // decides the refusal code, exactly as the sequential loop would.
 #pragma omp parallel num_threads(checkThreads_) if (checkThreads_ > 1 && R1_.size() + region_.size() >= 16)
@@ -597,10 +601,7 @@ class Simplifier {
       if (info_[region_[i]].ok && !newInfo_[i].ok) return Refuse(2);
       if (!devOk_[i]) return Refuse(3);
     }
-    if (p_.validateEveryOperation) {
-      memoStale_ += memo_.CountStale();
-      for (const auto& m : threadMemos_) memoStale_ += m.CountStale();
-    }
+    CountStaleMemos();
     K.Commit();
     for (int v : R1_) vpcOk_[v] = 0;  // their committed vertex points changed
     for (int g : region_)
