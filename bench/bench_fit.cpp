@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
     else if (k == "smooth") p.fit.smoothWeight = v;
     else if (k == "fps") p.fit.footpointSegments = int(v);
     else if (k == "dfit") p.fitDisplacement = v != 0;
+    else if (k == "adapt") p.adaptiveTiles = v != 0;
     else if (k == "N") p.limitSegments = int(v);
     else if (k == "danchor") p.displacementFit.anchorWeight = v;
     else if (k == "diters") p.displacementFit.iterations = int(v);
@@ -124,7 +125,7 @@ int main(int argc, char** argv) {
   if (pos.size() < 2) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
-                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [dfit=0|1 least-squares displacement] [danchor=anchor weight] [diters=rounds] "
+                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [dfit=0|1 least-squares displacement] [adapt=0|1 tile size per patch] [danchor=anchor weight] [diters=rounds] "
                  "[method=0 point-to-point | 1 tangent distance]\n",
                  argv[0]);
     return 2;
@@ -158,10 +159,11 @@ int main(int argc, char** argv) {
     t["total"].push_back(last.totalSeconds + tScene);
   }
   const auto& m = last.metrics;
-  std::printf("\nTable 1 | patches | irreg. | unp. %% | RMS L ‰ | RMS D ‰ | max L ‰ | max D ‰ | tile R\n");
-  std::printf("        | %7d | %6d | %6.2f | %7.3f | %7.4f | %7.3f | %7.4f | %d\n", last.fit.patches,
+  std::printf("\nTable 1 | patches | irreg. | unp. %% | RMS L ‰ | RMS D ‰ | max L ‰ | max D ‰ | tiles (samples)\n");
+  const int rMin = last.atlas.tileR.empty() ? 0 : *std::min_element(last.atlas.tileR.begin(), last.atlas.tileR.end());
+  std::printf("        | %7d | %6d | %6.2f | %7.3f | %7.4f | %7.3f | %7.4f | %d..%d (%lld)\n", last.fit.patches,
               last.fit.irregularVertices, m.unprojectablePct, m.rmsLimitPermille, m.rmsDisplacedPermille,
-              m.maxLimitPermille, m.maxDisplacedPermille, last.atlas.R);
+              m.maxLimitPermille, m.maxDisplacedPermille, rMin, last.atlas.R, last.atlas.Samples());
   std::printf("\nTable 2 (median of %d runs, seconds) |", runs);
   const char* order[] = {"scene", "fit", "tessellate", "bake", "metrics", "total"};
   for (const char* k : order) std::printf(" %s %.3f |", k, Median(t[k]));

@@ -4,10 +4,13 @@
 //
 // Usage: bench_quad [MESH] [--runs N] [--tau PCT[,PCT...]] [--threads T] [--standin] [--target N]
 //                   [--obj PREFIX]
+//                   [--rh PCT] [--mcap PCT] [--mscale X] [--no-m] [--no-fit]
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else /tmp/cgal/data/meshes/bunny00.off).
 //   --tau: tau values in percent (default 1,10); Fitmaps from vcgext::ComputeFitmaps (Fast mode).
 //   --no-fit: skip the §3.5 global fit (vcgext::FitCatmullClark) before the second projectability figure.
 //   --target N: stop at N patches; --no-m: no M-fitmap test (with --target: a fixed budget).
+//   --rh PCT: the Fitmaps' largest radius r_h, % of the bbox diagonal (default 25, the paper's).
+//   --mcap PCT: clamp the M-fitmap to PCT % of the bbox diagonal (a patch-size cap, experiments).
 //   --mscale X: multiply the M-fitmap by X (emulates a coarser M-fitmap scale, e.g. earlier Fitmaps).
 //   --dev F: QuadSimplifyParams::deviationFactor (geometric guard, fraction of F_M; 0 = off);
 //   --devcap PCT: QuadSimplifyParams::maxDeviationPercent.
@@ -141,7 +144,7 @@ int main(int argc, char** argv) {
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
   int runs = 3, threads = 2, target = 0;
   bool standin = false, finalFit = true, useM = true;
-  double mscale = 1.0, dev = -1, devcap = -1;
+  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, mcap = -1;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
   for (int i = 1; i < argc; ++i) {
@@ -155,6 +158,8 @@ int main(int argc, char** argv) {
     else if (a == "--dev" && i + 1 < argc) dev = std::atof(argv[++i]);
     else if (a == "--devcap" && i + 1 < argc) devcap = std::atof(argv[++i]);
     else if (a == "--mscale" && i + 1 < argc) mscale = std::atof(argv[++i]);
+    else if (a == "--rh" && i + 1 < argc) rh = std::atof(argv[++i]);
+    else if (a == "--mcap" && i + 1 < argc) mcap = std::atof(argv[++i]);
     else if (a == "--ray" && i + 1 < argc) rayPct = std::atof(argv[++i]);
     else if (a == "--obj" && i + 1 < argc) objPrefix = argv[++i];
     else if (a == "--dump-unreached" && i + 1 < argc) dumpUnreached = argv[++i];
@@ -189,6 +194,7 @@ int main(int argc, char** argv) {
     } else {
       vcgext::FitmapParams fp;
       fp.tauPercent = tau;
+      if (rh > 0) fp.maxRadiusPercent = rh;
       auto t0 = std::chrono::steady_clock::now();
       auto fr = vcgext::ComputeFitmaps(in, scene, fp);
       tFit = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -197,6 +203,7 @@ int main(int argc, char** argv) {
       M = fr.M;
     }
     for (double& x : M) x *= mscale;
+    if (mcap > 0) { double d = vcgext::BBoxDiagonal(in.V); for (double& x : M) x = std::min(x, mcap * d / 100); }
     {
       std::vector<double> m(M);
       std::sort(m.begin(), m.end());

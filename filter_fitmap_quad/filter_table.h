@@ -46,6 +46,7 @@ inline const char* kMaxDistPerc = "maxDistPerc";          ///< float, % of bbox 
 inline const char* kFitIterations = "fitIterations";      ///< int
 inline const char* kSmoothWeight = "smoothWeight";        ///< float, control-net Laplacian weight (0 = off)
 inline const char* kFitDisplacement = "fitDisplacement";  ///< bool, least-squares texels (else point samples)
+inline const char* kAdaptiveTiles = "adaptiveTiles";  ///< bool, automatic R: tile sizes per patch (else one R)
 inline const char* kOutputDir = "outputDir";              ///< string, folder for textures/OBJ/report
 // Loop Surrogate filters
 inline const char* kCreaseAngle = "creaseAngle";          ///< float, degrees (0 = no dihedral test)

@@ -30,8 +30,14 @@ void InitFitParams(MeshDocument& md, RichParameterList& par) {
   par.addParam(RichInt(param::kLimitSegments, d.limitSegments, "Limit tessellation (N)",
                        "Each patch of the limit surface layer is tessellated N x N."));
   par.addParam(RichInt(param::kTextureResolution, d.textureResolution, "Texture tile size (R)",
-                       "Texels per patch side of the displacement atlas; 0 = automatic (total "
-                       "samples about the number of reference vertices, as in the paper)."));
+                       "Texels per patch side of the displacement atlas, the same for every patch; "
+                       "0 = automatic (total samples about the number of reference vertices, as in "
+                       "the paper)."));
+  par.addParam(RichBool(param::kAdaptiveTiles, d.adaptiveTiles, "Tile size per patch",
+                        "With automatic R: each patch gets its own tile size (3, 5, 9, 17, 33 or 65 "
+                        "texels), so that the texel spacing is about even over the surface (large "
+                        "patches get more texels) for the same total samples; tiles stay seamless. "
+                        "Off: one R for every patch (the paper's atlas)."));
   par.addParam(RichBool(param::kNormalMap, d.normalMap, "Bake normal map",
                         "Also write an object-space normal map in the same atlas layout."));
   par.addParam(RichBool(param::kFitDisplacement, d.fitDisplacement, "Least-squares displacement",
@@ -81,6 +87,7 @@ bool ApplyFit(GlueContext& ctx) {
   p.textureResolution = ctx.par.getInt(param::kTextureResolution);
   p.normalMap = ctx.par.getBool(param::kNormalMap);
   p.fitDisplacement = ctx.par.getBool(param::kFitDisplacement);
+  p.adaptiveTiles = ctx.par.getBool(param::kAdaptiveTiles);
   p.maxDistPercent = ctx.par.getFloat(param::kMaxDistPerc);
   p.fit.maxIterations = ctx.par.getInt(param::kFitIterations);
   p.fit.smoothWeight = ctx.par.getFloat(param::kSmoothWeight);

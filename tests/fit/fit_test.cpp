@@ -117,12 +117,8 @@ struct JsonParser {
 // An atlas of `faces` R×R tiles whose every texel decodes to `offset` (all q16 = 0, scale 1).
 DisplacementAtlas ConstantAtlas(int faces, int R, double offset) {
   DisplacementAtlas a;
-  a.R = R;
-  a.cols = int(std::ceil(std::sqrt(double(faces))));
-  a.rows = (faces + a.cols - 1) / a.cols;
-  a.width = a.cols * a.R;
-  a.height = a.rows * a.R;
-  a.q16.assign(size_t(a.width) * a.height, 0);
+  UniformAtlasLayout(a, faces, R);
+  a.q16.assign(a.disp.size(), 0);
   a.scale = 1.0;
   a.offset = offset;
   return a;
@@ -641,8 +637,7 @@ TEST(FitDisplacement, InvalidParametersLeaveTheAtlasUntouched) {
   }
   EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, 0.0, {}, a).fitted);  // no range
   DisplacementAtlas other = a;
-  other.cols = 1;  // a layout that does not hold every patch
-  other.rows = 1;
+  other.tileX.back() = other.width;  // a layout with a tile outside the image
   EXPECT_FALSE(FitDisplacement(ls, q.V, ref, 0, 0.2, {}, other).fitted);
   EXPECT_TRUE(other.q16 == before);
 }
@@ -712,4 +707,240 @@ TEST(FitDisplacement, FoldedTrianglesCountsInversions) {
   EXPECT_EQ(std::max(plus, minus), all);
   std::swap(lim.mesh.F[7][1], lim.mesh.F[7][2]);
   EXPECT_EQ(FoldedTriangles(lim), 1);
+}
+
+// ------------------------------------------------------------------ tile size per patch
+namespace {
+
+// A cube sphere whose vertices are pulled towards +z (n -> normalize(n + c·z)): patches near the
+// +z pole shrink, those near -z grow (areas differ by more than an order of magnitude at c = 0.6).
+QuadData GradedCubeSphere(int s, double c) {
+  QuadData q = CubeSphere(s, 0.0, 1);
+  for (auto& p : q.V) p = p.norm() * (p.normalized() + c * Vec3(0, 0, 1)).normalized();
+  return q;
+}
+
+// Along every edge shared by two patches, the largest difference between the two tiles'
+// displacement (each tile's edge texels, linearly interpolated: what bilinear filtering gives on
+// the edge), at 129 points that include every texel position of either tile.
+double MaxSeamMismatch(const DisplacementAtlas& a, const QuadData& q) {
+  auto edgeValue = [&](int f, int e, double s) {  // s in [0,1] from corner e towards e+1
+    const int T = a.tileR[f] - 1;
+    const double x = s * T;
+    const int m = std::min(int(x), T - 1);
+    const double w = x - m;
+    auto texel = [&](int k) {
+      const int i = e == 0 ? k : e == 1 ? T : e == 2 ? T - k : 0;
+      const int j = e == 0 ? 0 : e == 1 ? k : e == 2 ? T : T - k;
+      return a.Decoded(f, i, j);
+    };
+    return (1 - w) * texel(m) + w * texel(m + 1);
+  };
+  std::map<std::pair<int, int>, std::pair<int, int>> first;
+  double worst = 0;
+  for (int f = 0; f < int(q.F.size()); ++f)
+    for (int e = 0; e < 4; ++e) {
+      const int x = q.F[f][e], y = q.F[f][(e + 1) % 4];
+      auto it = first.find({y, x});  // the other patch runs the edge the other way
+      if (it == first.end()) {
+        first[{x, y}] = {f, e};
+        continue;
+      }
+      for (int k = 0; k <= 128; ++k) {
+        const double s = k / 128.0;
+        worst = std::max(worst, std::abs(edgeValue(f, e, s) - edgeValue(it->second.first, it->second.second, 1 - s)));
+      }
+    }
+  return worst;
+}
+
+// Every undirected edge of a closed triangle mesh in exactly two triangles, once in each direction.
+bool ClosedAndOriented(const TriData& m, std::string* why) {
+  std::map<std::pair<int, int>, int> directed;
+  for (const auto& t : m.F)
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  for (const auto& kv : directed) {
+    if (kv.second != 1) { *why = "directed edge used twice"; return false; }
+    if (!directed.count({kv.first.second, kv.first.first})) { *why = "boundary edge"; return false; }
+  }
+  return true;
+}
+
+// The wedge UVs of every patch sit at the corner texel centres of its own tile, and the tiles
+// do not overlap.
+void ExpectTilesMapToTheirPatches(const DisplacementAtlas& a, int patches) {
+  ASSERT_EQ(int(a.wedgeUV.size()), patches);
+  ASSERT_EQ(a.Patches(), patches);
+  const int cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
+  std::vector<int> owner(size_t(a.width) * a.height, -1);
+  for (int f = 0; f < patches; ++f) {
+    const int R = a.tileR[f], x0 = a.tileX[f], y0 = a.tileY[f];
+    ASSERT_LE(x0 + R, a.width);
+    ASSERT_LE(y0 + R, a.height);
+    for (int c = 0; c < 4; ++c) {
+      const double x = a.wedgeUV[f][c][0] * a.width - 0.5, y = (1.0 - a.wedgeUV[f][c][1]) * a.height - 0.5;
+      EXPECT_NEAR(x, x0 + cu[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
+      EXPECT_NEAR(y, y0 + cv[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
+    }
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i) {
+        int& o = owner[size_t(y0 + j) * a.width + x0 + i];
+        EXPECT_EQ(o, -1) << "tiles of " << o << " and " << f << " overlap";
+        o = f;
+      }
+  }
+}
+
+}  // namespace
+
+// TessellateLimit with a segment count per patch: welded and watertight (a coarse patch next to
+// a fine one takes the fine edge's points), consistently oriented, no folds, the same surface
+// area as a fine uniform tessellation; equal counts give exactly the uniform tessellation.
+TEST(TessellateLimit, MixedSegmentsAreWatertight) {
+  QuadData q = CubeSphere(2, 0.05, 3);
+  LimitSurface ls = LimitSurface::FromQuads(q);
+  ASSERT_TRUE(ls.Ok());
+  std::mt19937 rng(7);
+  const int choices[6] = {1, 2, 3, 4, 5, 8};  // 1: a single cell with all four sides split
+  std::vector<int> seg(q.F.size());
+  for (int& n : seg) n = choices[rng() % 6];
+  LimitTessellation t = TessellateLimit(ls, q.V, seg);
+  ASSERT_FALSE(t.mesh.F.empty());
+  EXPECT_EQ(t.N, 0);
+  ASSERT_EQ(t.triPatch.size(), t.mesh.F.size());
+  std::string why;
+  EXPECT_TRUE(ClosedAndOriented(t.mesh, &why)) << why;
+  EXPECT_EQ(FoldedTriangles(t), 0);
+  for (size_t k = 0; k < t.mesh.F.size(); ++k) {
+    const auto& f = t.mesh.F[k];
+    const double area = (t.mesh.V[f[1]] - t.mesh.V[f[0]]).cross(t.mesh.V[f[2]] - t.mesh.V[f[0]]).norm();
+    EXPECT_GT(area, 0) << "degenerate triangle " << k;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(t.face[f[c]] == t.triPatch[k] || t.uv[f[c]][0] == 0 || t.uv[f[c]][0] == 1 ||
+                                              t.uv[f[c]][1] == 0 || t.uv[f[c]][1] == 1,
+                                          true);  // a vertex of another patch lies on the patch border
+  }
+  double a = 0, fine = 0;
+  for (double x : PatchAreas(t, ls.NumFaces())) a += x;
+  for (double x : PatchAreas(TessellateLimit(ls, q.V, 16), ls.NumFaces())) fine += x;
+  EXPECT_NEAR(a, fine, 0.02 * fine);  // chords: the coarsest patches (1 segment) lose ~1%
+  // Equal counts: the uniform tessellation, bit for bit.
+  LimitTessellation u1 = TessellateLimit(ls, q.V, 5), u2 = TessellateLimit(ls, q.V, std::vector<int>(q.F.size(), 5));
+  EXPECT_EQ(u2.N, 5);
+  EXPECT_TRUE(u1.mesh.F == u2.mesh.F);
+  EXPECT_TRUE(u1.mesh.V == u2.mesh.V);
+  EXPECT_EQ(int(u1.mesh.F.size()), 2 * 25 * ls.NumFaces());
+}
+
+// AdaptiveTileResolutions: sizes 2^k+1 within the budget, and using most of it; more texels
+// for patches with more modelled error; the modelled error Σ W/T² (W = vertices·area) no worse
+// than one R for every patch, and the best allocation (brute force over all of them).
+TEST(AdaptiveTiles, AllocationFollowsTheErrorModel) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const int F = 40;
+  std::vector<double> area(F), verts(F);
+  for (int f = 0; f < F; ++f) {
+    area[f] = std::pow(10.0, 2 * U(rng));  // 1..100
+    verts[f] = area[f] * (0.5 + U(rng));
+  }
+  verts[5] = 0;  // a patch no reference vertex projects to
+  const double budget = 40 * 121.0;
+  const std::vector<int> R = AdaptiveTileResolutions(area, verts, budget);
+  ASSERT_EQ(int(R.size()), F);
+  double used = 0, model = 0;
+  for (int f = 0; f < F; ++f) {
+    const int T = R[f] - 1;
+    EXPECT_TRUE(T >= 2 && T <= 64 && (T & (T - 1)) == 0) << R[f];
+    used += double(R[f]) * R[f];
+    model += verts[f] * area[f] / (double(T) * T);
+  }
+  EXPECT_LE(used, budget);
+  EXPECT_GE(used, 0.75 * budget);
+  EXPECT_EQ(R[5], 3);
+  for (int f = 0; f < F; ++f)
+    for (int g = 0; g < F; ++g)
+      if (verts[f] * area[f] > 4.5 * verts[g] * area[g]) {
+        EXPECT_GE(R[f], R[g]) << f << " " << g;
+      }
+  // one R for every patch within the same budget: R = 9 (40·81 <= 4840 < 40·289)
+  double uniform = 0;
+  for (int f = 0; f < F; ++f) uniform += verts[f] * area[f] / 64.0;
+  EXPECT_LT(model, 0.8 * uniform);
+  // brute force on 4 patches (6^4 allocations)
+  const std::vector<double> a4 = {1, 7, 30, 90}, v4 = {2, 5, 40, 60};
+  const double b4 = 600;
+  const std::vector<int> r4 = AdaptiveTileResolutions(a4, v4, b4);
+  auto err = [&](const std::vector<int>& r) {
+    double e = 0;
+    for (int f = 0; f < 4; ++f) e += v4[f] * a4[f] / double((r[f] - 1) * (r[f] - 1));
+    return e;
+  };
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 6 * 6 * 6 * 6; ++k) {
+    std::vector<int> r(4);
+    double n = 0;
+    for (int f = 0, kk = k; f < 4; ++f, kk /= 6) {
+      r[f] = (2 << (kk % 6)) + 1;
+      n += double(r[f]) * r[f];
+    }
+    if (n <= b4) best = std::min(best, err(r));
+  }
+  double n4 = 0;
+  for (int r : r4) n4 += double(r) * r;
+  EXPECT_LE(n4, b4);
+  EXPECT_NEAR(err(r4), best, 1e-12 * best);
+}
+
+// The default atlas on a control mesh with patches of very different sizes: tiles sized per
+// patch, seamless (the two tiles of every shared edge give the same displacement along it), a
+// watertight displaced layer, every tile on its patch, about the same samples as one R for all
+// patches, and a clearly smaller displaced error than that one R.
+TEST(AdaptiveTiles, GradedPatchesGetEvenTexelsAndBeatOneR) {
+  TriData ref = BumpySphere(5, 0.02);  // 10k vertices
+  EmbreeScene scene(ref);
+  QuadData q = GradedCubeSphere(3, 0.6);  // 54 patches
+  FitBakeParams bp;
+  FitBakeResult one, per;
+  bp.adaptiveTiles = false;
+  one = FitAndBake(q, ref, scene, bp);
+  bp.adaptiveTiles = true;
+  per = FitAndBake(q, ref, scene, bp);
+  ASSERT_TRUE(one.error.empty() && per.error.empty()) << one.error << per.error;
+  const std::vector<double> area = PatchAreas(per.limit, int(q.F.size()));
+  EXPECT_GT(*std::max_element(area.begin(), area.end()), 10 * *std::min_element(area.begin(), area.end()));
+  EXPECT_FALSE(one.atlas.adaptive);
+  ASSERT_TRUE(per.atlas.adaptive);
+  const auto [rMin, rMax] = std::minmax_element(per.atlas.tileR.begin(), per.atlas.tileR.end());
+  EXPECT_LT(*rMin, *rMax);
+  // texel spacing √area / (R−1): one R leaves the spread of the patch sizes (> √10); sizes 2^k+1
+  // leave about a factor 2 (each tile within ~√2 of its ideal size; measured 2.2 vs 4.2)
+  auto spread = [&](const DisplacementAtlas& a) {
+    double lo = 1e300, hi = 0;
+    for (size_t f = 0; f < area.size(); ++f) {
+      const double h = std::sqrt(area[f]) / (a.tileR[f] - 1);
+      lo = std::min(lo, h);
+      hi = std::max(hi, h);
+    }
+    return hi / lo;
+  };
+  EXPECT_GT(spread(one.atlas), 3.0);
+  EXPECT_LT(spread(per.atlas), 2.5);
+  EXPECT_NEAR(double(per.atlas.Samples()), double(one.atlas.Samples()), 0.2 * one.atlas.Samples());
+  EXPECT_LE(double(per.atlas.Samples()), AutoTextureBudget(int(ref.V.size()), int(q.F.size())));
+  std::printf("displaced RMS: tile size per patch %.4f, one R %.4f permille; samples %lld vs %lld\n",
+              per.metrics.rmsDisplacedPermille, one.metrics.rmsDisplacedPermille, per.atlas.Samples(),
+              one.atlas.Samples());
+  EXPECT_LT(per.metrics.rmsDisplacedPermille, 0.8 * one.metrics.rmsDisplacedPermille)
+      << per.metrics.rmsDisplacedPermille << " vs " << one.metrics.rmsDisplacedPermille;
+  EXPECT_LE(MaxSeamMismatch(per.atlas, per.fit.control), 1.01 * per.atlas.scale + 1e-12);
+  EXPECT_LE(MaxSeamMismatch(one.atlas, one.fit.control), 1.01 * one.atlas.scale + 1e-12);
+  std::string why;
+  EXPECT_TRUE(ClosedAndOriented(per.displaced.mesh, &why)) << why;
+  ExpectTilesMapToTheirPatches(per.atlas, int(q.F.size()));
+  ExpectTilesMapToTheirPatches(one.atlas, int(q.F.size()));
+  // point samples too: the bake alone is seamless
+  bp.fitDisplacement = false;
+  const FitBakeResult point = FitAndBake(q, ref, scene, bp);
+  ASSERT_TRUE(point.error.empty());
+  EXPECT_LE(MaxSeamMismatch(point.atlas, point.fit.control), 1.01 * point.atlas.scale + 1e-12);
 }

@@ -26,71 +26,157 @@ inline std::uint64_t EdgeKey(int a, int b) {
 }  // namespace
 
 LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int N) {
+  return TessellateLimit(ls, ctrl, std::vector<int>(size_t(std::max(ls.NumFaces(), 0)), N));
+}
+
+namespace {
+// A point on a patch edge at fraction num/den of the canonical direction (lower control vertex
+// id first), 0 < num < den.
+struct EdgeFrac {
+  int num, den;
+  bool operator<(const EdgeFrac& o) const { return (long long)num * o.den < (long long)o.num * den; }
+  bool operator==(const EdgeFrac& o) const { return (long long)num * o.den == (long long)o.num * den; }
+};
+struct EdgePoints {
+  int n[2] = {0, 0};             // segment counts of the (up to two) patches on the edge
+  std::vector<EdgeFrac> points;  // sorted union of their interior segment points
+  int base = -1;                 // vertex id of points[0] (ids consecutive)
+};
+// (u,v) numerators (over den) of the point at edge fraction p/den of side e of a patch, going
+// around the patch: e0 c0->c1 (v=0), e1 c1->c2 (u=1), e2 c2->c3 (v=1), e3 c3->c0 (u=0).
+void SidePoint(int e, int p, int den, int* i, int* j) {
+  switch (e) {
+    case 0: *i = p; *j = 0; break;
+    case 1: *i = den; *j = p; break;
+    case 2: *i = den - p; *j = den; break;
+    default: *i = 0; *j = den - p; break;
+  }
+}
+}  // namespace
+
+LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3>& ctrl,
+                                  const std::vector<int>& segments) {
   LimitTessellation t;
   const int nF = ls.NumFaces();
-  if (!ls.Ok() || N < 1 || nF == 0) return t;
-  // Vertex ids: control corners shared, edge points shared per undirected edge, interiors own.
+  if (!ls.Ok() || nF == 0 || int(segments.size()) != nF) return t;
+  for (int n : segments)
+    if (n < 1) return t;
+  t.N = segments[0];
+  for (int n : segments)
+    if (n != t.N) t.N = 0;
+  // Edges: the union of the segment points of the patches on each side.
+  std::unordered_map<std::uint64_t, EdgePoints> edges;
+  for (int f = 0; f < nF; ++f)
+    for (int e = 0; e < 4; ++e) {
+      const int a = ls.FaceVertex(f, e), b = ls.FaceVertex(f, (e + 1) % 4);
+      EdgePoints& ep = edges[a < b ? EdgeKey(a, b) : EdgeKey(b, a)];
+      ep.n[ep.n[0] ? 1 : 0] = segments[f];
+    }
+  for (auto& kv : edges) {
+    EdgePoints& ep = kv.second;
+    for (int s = 0; s < 2; ++s)
+      for (int m = 1; m < ep.n[s]; ++m) ep.points.push_back({m, ep.n[s]});
+    std::sort(ep.points.begin(), ep.points.end());
+    ep.points.erase(std::unique(ep.points.begin(), ep.points.end()), ep.points.end());
+  }
   std::vector<int> cornerId(ls.NumVertices(), -1);
-  std::unordered_map<std::uint64_t, int> edgeBase;  // first id of the N-1 interior points of edge (a<b)
-  t.N = N;
-  std::vector<int>& gridId = t.grid;
-  gridId.resize(size_t(nF) * (N + 1) * (N + 1));
   auto addVertex = [&](int f, double u, double v) {
     t.face.push_back(f);
     t.uv.emplace_back(u, v);
     return int(t.face.size()) - 1;
   };
-  int cv[4];
+  auto addTri = [&](int f, int a, int b, int c) {
+    t.mesh.F.push_back({a, b, c});
+    t.triPatch.push_back(f);
+  };
+  std::vector<int> g;  // the patch's grid vertex ids, (N+1)²
   for (int f = 0; f < nF; ++f) {
-    int* g = gridId.data() + size_t(f) * (N + 1) * (N + 1);
-    // Corner control vertices: the corner (u,v) convention (0,0),(1,0),(1,1),(0,1).
+    const int N = segments[f];
+    g.assign(size_t(N + 1) * (N + 1), -1);
     const int cu[4] = {0, N, N, 0}, cvv[4] = {0, 0, N, N};
+    int cv[4];
     for (int c = 0; c < 4; ++c) cv[c] = ls.FaceVertex(f, c);
     for (int c = 0; c < 4; ++c) {
       int& id = cornerId[cv[c]];
       if (id < 0) id = addVertex(f, double(cu[c]) / N, double(cvv[c]) / N);
       g[cvv[c] * (N + 1) + cu[c]] = id;
     }
-    // Edges: e0 c0->c1 (j=0, i=m), e1 c1->c2 (i=N, j=m), e2 c2->c3 (j=N, i=N-m), e3 c3->c0 (i=0, j=N-m).
-    auto edgeGrid = [N](int e, int m, int* i, int* j) {
-      switch (e) {
-        case 0: *i = m; *j = 0; break;
-        case 1: *i = N; *j = m; break;
-        case 2: *i = N - m; *j = N; break;
-        default: *i = 0; *j = N - m; break;
-      }
-    };
+    // side e: its edge, direction and the index range of the points between grid points
+    EdgePoints* side[4];
+    bool fwd[4];
     for (int e = 0; e < 4; ++e) {
-      int a = cv[e], b = cv[(e + 1) % 4];
-      bool fwd = a < b;
-      auto key = fwd ? EdgeKey(a, b) : EdgeKey(b, a);
-      auto it = edgeBase.find(key);
-      int base;
-      bool created = false;
-      if (it == edgeBase.end()) { base = int(t.face.size()); edgeBase.emplace(key, base); created = true; }
-      else base = it->second;
-      for (int m = 1; m < N; ++m) {
-        int i, j;
-        edgeGrid(e, m, &i, &j);
-        int cm = fwd ? m : N - m;  // canonical position along a<b
-        g[j * (N + 1) + i] = base + cm - 1;
-      }
-      if (created) {
-        for (int cm = 1; cm < N; ++cm) {
+      const int a = cv[e], b = cv[(e + 1) % 4];
+      fwd[e] = a < b;
+      EdgePoints& ep = edges[fwd[e] ? EdgeKey(a, b) : EdgeKey(b, a)];
+      side[e] = &ep;
+      if (ep.base < 0) {  // first patch on this edge: create its points in canonical order
+        ep.base = int(t.face.size());
+        for (const EdgeFrac& q : ep.points) {
           int i, j;
-          edgeGrid(e, fwd ? cm : N - cm, &i, &j);
-          addVertex(f, double(i) / N, double(j) / N);
+          SidePoint(e, fwd[e] ? q.num : q.den - q.num, q.den, &i, &j);
+          addVertex(f, double(i) / q.den, double(j) / q.den);
         }
+      }
+      for (int m = 1; m < N; ++m) {
+        const EdgeFrac q{fwd[e] ? m : N - m, N};
+        const auto it = std::lower_bound(ep.points.begin(), ep.points.end(), q);
+        int i, j;
+        SidePoint(e, m, N, &i, &j);
+        g[j * (N + 1) + i] = ep.base + int(it - ep.points.begin());
       }
     }
     for (int j = 1; j < N; ++j)
       for (int i = 1; i < N; ++i) g[j * (N + 1) + i] = addVertex(f, double(i) / N, double(j) / N);
+    // Index in side e's point list of the side's grid point m (0..N; -1 / size() = corners).
+    auto sideIndex = [&](int e, int m) {
+      const EdgePoints& ep = *side[e];
+      if (m == 0) return fwd[e] ? -1 : int(ep.points.size());
+      if (m == N) return fwd[e] ? int(ep.points.size()) : -1;
+      const EdgeFrac q{fwd[e] ? m : N - m, N};
+      return int(std::lower_bound(ep.points.begin(), ep.points.end(), q) - ep.points.begin());
+    };
+    // Extra points of side e strictly between its grid points m and m+1, in side order.
+    std::vector<int> extra[4];
+    auto extras = [&](int e, int m, std::vector<int>& out) {
+      out.clear();
+      const int k0 = sideIndex(e, m), k1 = sideIndex(e, m + 1);
+      if (k0 < k1)
+        for (int k = k0 + 1; k < k1; ++k) out.push_back(side[e]->base + k);
+      else
+        for (int k = k0 - 1; k > k1; --k) out.push_back(side[e]->base + k);
+    };
+    std::vector<int> poly;
     for (int j = 0; j < N; ++j)
       for (int i = 0; i < N; ++i) {
-        int v00 = g[j * (N + 1) + i], v10 = g[j * (N + 1) + i + 1];
-        int v11 = g[(j + 1) * (N + 1) + i + 1], v01 = g[(j + 1) * (N + 1) + i];
-        t.mesh.F.push_back({v00, v10, v11});
-        t.mesh.F.push_back({v00, v11, v01});
+        const int v00 = g[j * (N + 1) + i], v10 = g[j * (N + 1) + i + 1];
+        const int v11 = g[(j + 1) * (N + 1) + i + 1], v01 = g[(j + 1) * (N + 1) + i];
+        for (auto& x : extra) x.clear();
+        if (j == 0) extras(0, i, extra[0]);              // bottom, along e0
+        if (i == N - 1) extras(1, j, extra[1]);          // right, along e1
+        if (j == N - 1) extras(2, N - 1 - i, extra[2]);  // top, along e2
+        if (i == 0) extras(3, N - 1 - j, extra[3]);      // left, along e3
+        if (extra[0].empty() && extra[1].empty() && extra[2].empty() && extra[3].empty()) {
+          addTri(f, v00, v10, v11);
+          addTri(f, v00, v11, v01);
+          continue;
+        }
+        // The cell as a polygon (counter-clockwise in (u,v)), fanned from a corner whose two
+        // sides carry no extra points, else from a new vertex at the cell centre.
+        const int corner[4] = {v00, v10, v11, v01};
+        poly.clear();
+        int start = -1;
+        for (int c = 0; c < 4; ++c) {
+          if (start < 0 && extra[c].empty() && extra[(c + 3) % 4].empty()) start = int(poly.size());
+          poly.push_back(corner[c]);
+          poly.insert(poly.end(), extra[c].begin(), extra[c].end());
+        }
+        const int n = int(poly.size());
+        if (start >= 0) {
+          for (int k = 1; k + 1 < n; ++k) addTri(f, poly[start], poly[(start + k) % n], poly[(start + k + 1) % n]);
+        } else {
+          const int c = addVertex(f, (i + 0.5) / N, (j + 0.5) / N);
+          for (int k = 0; k < n; ++k) addTri(f, c, poly[k], poly[(k + 1) % n]);
+        }
       }
   }
   const int nV = int(t.face.size());
@@ -122,6 +208,149 @@ int AutoTextureResolution(int referenceVertices, int patches) {
   return std::max(kMinAutoTextureResolution, int(std::lround(std::sqrt(double(referenceVertices) / patches))));
 }
 
+double AutoTextureBudget(int referenceVertices, int patches) {
+  return std::max(double(referenceVertices),
+                  double(kMinAutoTextureResolution) * kMinAutoTextureResolution * std::max(patches, 0));
+}
+
+long long DisplacementAtlas::Samples() const {
+  long long n = 0;
+  for (int r : tileR) n += (long long)r * r;
+  return n;
+}
+
+void UniformAtlasLayout(DisplacementAtlas& a, int F, int R) {
+  a.adaptive = false;
+  a.R = R;
+  a.cols = std::max(1, int(std::ceil(std::sqrt(double(F)))));
+  a.rows = (F + a.cols - 1) / a.cols;
+  a.width = a.cols * R;
+  a.height = a.rows * R;
+  a.tileR.assign(F, R);
+  a.tileX.resize(F);
+  a.tileY.resize(F);
+  for (int f = 0; f < F; ++f) {
+    a.tileX[f] = (f % a.cols) * R;
+    a.tileY[f] = (f / a.cols) * R;
+  }
+  a.disp.assign(size_t(a.width) * a.height, 0.f);
+}
+
+void AdaptiveAtlasLayout(DisplacementAtlas& a, const std::vector<int>& tileR) {
+  const int F = int(tileR.size());
+  a.adaptive = true;
+  a.cols = a.rows = 0;
+  a.tileR = tileR;
+  a.tileX.assign(F, 0);
+  a.tileY.assign(F, 0);
+  a.R = 0;
+  long long area = 0;
+  for (int r : tileR) {
+    a.R = std::max(a.R, r);
+    area += (long long)r * r;
+  }
+  // Shelf packing, tallest tiles first (ties by patch index: deterministic).
+  std::vector<int> order(F);
+  for (int f = 0; f < F; ++f) order[f] = f;
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return tileR[x] > tileR[y]; });
+  a.width = std::max(a.R, int(std::ceil(std::sqrt(double(area)))));
+  int x = 0, y = 0, shelf = 0;
+  for (int f : order) {
+    if (x + tileR[f] > a.width) {
+      y += shelf;
+      x = 0;
+      shelf = 0;
+    }
+    a.tileX[f] = x;
+    a.tileY[f] = y;
+    x += tileR[f];
+    shelf = std::max(shelf, tileR[f]);
+  }
+  a.height = y + shelf;
+  a.disp.assign(size_t(a.width) * a.height, 0.f);
+}
+
+std::vector<int> AdaptiveTileResolutions(const std::vector<double>& patchArea, const std::vector<double>& patchVertices,
+                                         double budget) {
+  const int F = int(patchArea.size());
+  constexpr int kLevels = 6;  // T = 2, 4, …, 64: tiles of 3 .. 65 texels per side
+  std::vector<int> R(F, 3);
+  if (F == 0 || int(patchVertices.size()) != F) return R;
+  // Error model: a reference vertex on patch f is off the bilinear displaced layer by about the
+  // texel spacing √(area_f)/T_f (measured on bunny00: the RMS per patch grows linearly with the
+  // spacing), so the squared error summed over the reference vertices is Σ_f W_f / T_f² with
+  // W_f = vertices_f · area_f, to minimize under Σ (T_f+1)² <= budget: a multiple-choice
+  // knapsack, solved exactly by dynamic programming. (T+1)² = 1 + 8·c with c = 1, 3, 10, 36,
+  // 136, 528, so the budget is counted in units of 8·g texels beyond one per patch (g = 1
+  // unless F × units would exceed 4·10⁷ table cells; costs round up, so the budget holds).
+  int cost8[kLevels];
+  for (int k = 0; k < kLevels; ++k) {
+    const int t = 2 << k;
+    cost8[k] = ((t + 1) * (t + 1) - 1) / 8;
+  }
+  const double spare = (budget - F) / 8.0;
+  if (!(spare >= double(cost8[0]) * F)) return R;  // not even the smallest tiles fit
+  const long long units8 = (long long)std::floor(spare);
+  const long long g = std::max(1LL, (long long)std::ceil(double(F) * (units8 + 1) / 4e7));
+  const int S = int(units8 / g);
+  int cost[kLevels];
+  for (int k = 0; k < kLevels; ++k) cost[k] = int((cost8[k] + g - 1) / g);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> best(S + 1, inf), next(S + 1);
+  best[0] = 0;
+  std::vector<std::uint8_t> choice(size_t(F) * (S + 1), 0);
+  for (int f = 0; f < F; ++f) {
+    const double w = std::max(patchVertices[f], 0.0) * std::max(patchArea[f], 0.0);
+    std::fill(next.begin(), next.end(), inf);
+    std::uint8_t* ch = choice.data() + size_t(f) * (S + 1);
+    for (int k = 0; k < kLevels; ++k) {
+      const double t = 2 << k, e = w / (t * t);
+      for (int s = cost[k]; s <= S; ++s) {
+        const double v = best[s - cost[k]] + e;
+        if (v < next[s]) {  // ties: the smaller tile (k ascending)
+          next[s] = v;
+          ch[s] = std::uint8_t(k);
+        }
+      }
+    }
+    best.swap(next);
+  }
+  int s = int(std::min_element(best.begin(), best.end()) - best.begin());
+  if (!std::isfinite(best[s])) return R;
+  for (int f = F - 1; f >= 0; --f) {
+    const int k = choice[size_t(f) * (S + 1) + s];
+    R[f] = (2 << k) + 1;
+    s -= cost[k];
+  }
+  return R;
+}
+
+std::vector<double> PatchVertexCounts(const LimitTessellation& t, int patches, const TriData& ref) {
+  std::vector<double> n(std::max(patches, 0), 0.0);
+  const EmbreeScene s(t.mesh);
+  if (!s.Ok()) return n;
+  std::vector<int> owner(ref.V.size(), -1);
+#pragma omp parallel for schedule(static)
+  for (long v = 0; v < long(ref.V.size()); ++v) {
+    const EmbreeScene::Hit h = s.ClosestPoint(ref.V[v]);
+    if (h.valid && h.face < int(t.triPatch.size())) owner[v] = t.triPatch[h.face];
+  }
+  for (int o : owner)
+    if (o >= 0 && o < patches) n[o] += 1;
+  return n;
+}
+
+std::vector<double> PatchAreas(const LimitTessellation& t, int patches) {
+  std::vector<double> area(std::max(patches, 0), 0.0);
+  for (size_t k = 0; k < t.mesh.F.size() && k < t.triPatch.size(); ++k) {
+    const auto& f = t.mesh.F[k];
+    const int p = t.triPatch[k];
+    if (p < 0 || p >= patches) continue;
+    area[p] += 0.5 * (t.mesh.V[f[1]] - t.mesh.V[f[0]]).cross(t.mesh.V[f[2]] - t.mesh.V[f[0]]).norm();
+  }
+  return area;
+}
+
 namespace {
 // The bilinear texture filter of a tile with T texel intervals per side (texel (i,j) at
 // (u,v) = (i/T, j/T)): the cell's lower texel and the weights of texels (i,j), (i+1,j), (i,j+1),
@@ -144,11 +373,11 @@ TileCell CellAt(const Eigen::Vector2d& uv, int T) {
 }
 
 // 16-bit quantization over the tiles actually used: disp ≈ offset + scale · q16.
-void Quantize(DisplacementAtlas& a, int nF) {
+void Quantize(DisplacementAtlas& a) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (int f = 0; f < nF; ++f)
-    for (int j = 0; j < a.R; ++j)
-      for (int i = 0; i < a.R; ++i) {
+  for (int f = 0; f < a.Patches(); ++f)
+    for (int j = 0; j < a.tileR[f]; ++j)
+      for (int i = 0; i < a.tileR[f]; ++i) {
         double d = a.disp[a.Pixel(f, i, j)];
         lo = std::min(lo, d);
         hi = std::max(hi, d);
@@ -160,6 +389,125 @@ void Quantize(DisplacementAtlas& a, int nF) {
     if (a.scale > 0)
       a.q16[k] = std::uint16_t(std::clamp(std::lround((a.disp[k] - lo) / a.scale), 0L, 65535L));
 }
+
+// The free values of a seamless atlas: one unknown per surface point that some tile's texel
+// stands for exactly — control vertices (tile corners), the texels of each shared edge at the
+// coarser of its two tiles' resolutions, tile interiors. Every texel is one unknown or (a finer
+// tile's extra edge texel) the linear interpolation of two neighbouring edge unknowns.
+class TexelSpace {
+ public:
+  struct Term {
+    int id[2];
+    double w[2];
+    int n;
+  };
+  TexelSpace(const LimitSurface& ls, const DisplacementAtlas& a) : a_(a) {
+    const int nF = ls.NumFaces();
+    std::unordered_map<std::uint64_t, std::pair<int, int>> edge;  // key -> (intervals, first knot id)
+    for (int f = 0; f < nF; ++f)
+      for (int e = 0; e < 4; ++e) {
+        const int x = ls.FaceVertex(f, e), y = ls.FaceVertex(f, (e + 1) % 4);
+        auto it = edge.emplace(x < y ? EdgeKey(x, y) : EdgeKey(y, x), std::make_pair(a.tileR[f] - 1, -1)).first;
+        it->second.first = std::min(it->second.first, a.tileR[f] - 1);
+      }
+    std::vector<int> corner(ls.NumVertices(), -1);
+    offset_.resize(nF + 1, 0);
+    for (int f = 0; f < nF; ++f) offset_[f + 1] = offset_[f] + a.tileR[f] * a.tileR[f];
+    terms_.resize(offset_[nF]);
+    int next = 0;
+    for (int f = 0; f < nF; ++f) {
+      const int T = a.tileR[f] - 1;
+      int cv[4];
+      for (int c = 0; c < 4; ++c) {
+        cv[c] = ls.FaceVertex(f, c);
+        if (corner[cv[c]] < 0) corner[cv[c]] = next++;
+      }
+      const int cu[4] = {0, T, T, 0}, cvv[4] = {0, 0, T, T};
+      for (int c = 0; c < 4; ++c) terms_[offset_[f] + cvv[c] * (T + 1) + cu[c]] = {{corner[cv[c]], 0}, {1, 0}, 1};
+      for (int e = 0; e < 4; ++e) {
+        const int x = cv[e], y = cv[(e + 1) % 4];
+        const bool fwd = x < y;
+        auto& ed = edge[fwd ? EdgeKey(x, y) : EdgeKey(y, x)];
+        const int Te = ed.first, k = T / Te;  // powers of two: Te divides T
+        if (ed.second < 0) {
+          ed.second = next;
+          next += Te - 1;
+        }
+        // knot q (0..Te) of the canonical direction: a corner or an edge unknown
+        auto knot = [&](int q) {
+          if (q == 0) return corner[std::min(x, y)];
+          if (q == Te) return corner[std::max(x, y)];
+          return ed.second + q - 1;
+        };
+        for (int m = 1; m < T; ++m) {
+          const int c = fwd ? m : T - m;  // canonical position, units 1/T
+          int i = 0, j = 0;
+          SidePoint(e, m, T, &i, &j);
+          Term& t = terms_[offset_[f] + j * (T + 1) + i];
+          if (c % k == 0) {
+            t = {{knot(c / k), 0}, {1, 0}, 1};
+          } else {
+            const double w = double(c % k) / k;
+            t = {{knot(c / k), knot(c / k + 1)}, {1 - w, w}, 2};
+          }
+        }
+      }
+      for (int j = 1; j < T; ++j)
+        for (int i = 1; i < T; ++i) terms_[offset_[f] + j * (T + 1) + i] = {{next++, 0}, {1, 0}, 1};
+    }
+    n_ = next;
+  }
+  int NumUnknowns() const { return n_; }
+  const Term& At(int f, int i, int j) const { return terms_[offset_[f] + j * a_.tileR[f] + i]; }
+  // Unknowns from the texels that stand for them exactly (the mean over the tiles sharing one).
+  Eigen::VectorXd Gather(const DisplacementAtlas& a) const {
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(n_), cnt = Eigen::VectorXd::Zero(n_);
+    ForEach([&](int f, int i, int j, const Term& t) {
+      if (t.n != 1) return;
+      sum[t.id[0]] += a.disp[a.Pixel(f, i, j)];
+      cnt[t.id[0]] += 1;
+    });
+    return sum.cwiseQuotient(cnt.cwiseMax(1.0));
+  }
+  // Writes every texel of every tile from the unknowns.
+  void Scatter(const Eigen::VectorXd& d, DisplacementAtlas& a) const {
+    ForEach([&](int f, int i, int j, const Term& t) {
+      double v = 0;
+      for (int q = 0; q < t.n; ++q) v += t.w[q] * d[t.id[q]];
+      a.disp[a.Pixel(f, i, j)] = float(v);
+    });
+  }
+
+ private:
+  template <class Fn>
+  void ForEach(Fn fn) const {
+    for (int f = 0; f + 1 < int(offset_.size()); ++f)
+      for (int j = 0; j < a_.tileR[f]; ++j)
+        for (int i = 0; i < a_.tileR[f]; ++i) fn(f, i, j, At(f, i, j));
+  }
+  const DisplacementAtlas& a_;
+  std::vector<size_t> offset_;
+  std::vector<Term> terms_;
+  int n_ = 0;
+};
+
+// The atlas's tile sizes are a valid layout for a surface of nF patches: one tile per patch,
+// inside the image, and (for seamless edges) 2^k+1 texels when they differ.
+bool LayoutOk(const DisplacementAtlas& a, int nF) {
+  if (a.Patches() != nF || int(a.tileX.size()) != nF || int(a.tileY.size()) != nF || a.width < 1 || a.height < 1 ||
+      a.disp.size() != size_t(a.width) * a.height)
+    return false;
+  for (int f = 0; f < nF; ++f) {
+    const int r = a.tileR[f];
+    if (r < 2 || a.tileX[f] < 0 || a.tileY[f] < 0 || a.tileX[f] + r > a.width || a.tileY[f] + r > a.height)
+      return false;
+    if (r != a.tileR[0] && ((r - 1) & (r - 2)) != 0) return false;  // r−1 a power of two
+  }
+  if (a.tileR.size() && ((a.tileR[0] - 1) & (a.tileR[0] - 2)) != 0)
+    for (int r : a.tileR)
+      if (r != a.tileR[0]) return false;
+  return true;
+}
 }  // namespace
 
 DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
@@ -167,12 +515,20 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   DisplacementAtlas a;
   const int nF = ls.NumFaces();
   if (!ls.Ok() || nF == 0 || R < 2) return a;
-  a.R = R;
-  a.cols = int(std::ceil(std::sqrt(double(nF))));
-  a.rows = (nF + a.cols - 1) / a.cols;
-  a.width = a.cols * R;
-  a.height = a.rows * R;
+  UniformAtlasLayout(a, nF, R);
+  BakeDisplacement(ls, ctrl, ref, scene, maxDist, normalMap, a);
+  return a;
+}
+
+void BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
+                      const EmbreeScene& scene, double maxDist, bool normalMap, DisplacementAtlas& a) {
+  const int nF = ls.NumFaces();
+  if (!ls.Ok() || nF == 0 || !LayoutOk(a, nF)) {
+    a = DisplacementAtlas();
+    return;
+  }
   a.disp.assign(size_t(a.width) * a.height, 0.f);
+  a.normalRGB.clear();
   if (normalMap) a.normalRGB.assign(size_t(a.width) * a.height * 3, 128);
   std::vector<Vec3> vn;
   if (normalMap) vn = VertexNormals(ref);
@@ -180,6 +536,7 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   int misses = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : misses)
   for (int f = 0; f < nF; ++f) {
+    const int R = a.tileR[f];
     for (int j = 0; j < R; ++j)
       for (int i = 0; i < R; ++i) {
         Vec3 n;
@@ -209,65 +566,74 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
       }
   }
   a.misses = misses;
-  Quantize(a, nF);
+  // One value per surface point: shared texels agree, finer edges follow coarser neighbours.
+  const TexelSpace space(ls, a);
+  space.Scatter(space.Gather(a), a);
+  Quantize(a);
   // Wedge UVs at the corner texels' centres; v up (OpenGL / OBJ / MeshLab), image row 0 on top.
   a.wedgeUV.resize(nF);
   const int cu[4] = {0, 1, 1, 0}, cvv[4] = {0, 0, 1, 1};
   for (int f = 0; f < nF; ++f) {
-    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
+    const int R = a.tileR[f];
     for (int c = 0; c < 4; ++c) {
-      double x = x0 + 0.5 + cu[c] * (R - 1), y = y0 + 0.5 + cvv[c] * (R - 1);
+      double x = a.tileX[f] + 0.5 + cu[c] * (R - 1), y = a.tileY[f] + 0.5 + cvv[c] * (R - 1);
       a.wedgeUV[f][c] = Eigen::Vector2d(x / a.width, 1.0 - y / a.height);
     }
   }
-  return a;
 }
 
 namespace {
-// The displaced layer as a linear function of the texels: its base tessellation (what
-// DisplacedSurface displaces, max(R−1, minSegments) per side) and, per base vertex, the bilinear
-// filter weights of the 4 texels of its tile. Texels are numbered on the welded grid of
-// TessellateLimit(R−1): texels on shared tile edges/corners are one unknown (seamless tiles).
+// Segments per side of the displaced layer's patches: the tile's texel intervals, at least
+// minSegments.
+std::vector<int> DisplacedSegments(const DisplacementAtlas& a, int minSegments) {
+  std::vector<int> n(a.tileR.size());
+  for (size_t f = 0; f < n.size(); ++f) n[f] = std::max(a.tileR[f] - 1, minSegments);
+  return n;
+}
+
+// The displaced layer as a linear function of the texel unknowns (TexelSpace): its base
+// tessellation (what DisplacedSurface displaces) and, per base vertex, the weights of the
+// unknowns in the bilinear filter of its patch's tile (4 texels, each 1 or 2 unknowns).
 class DisplacedModel {
  public:
-  DisplacedModel(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int R, int minSegments)
-      : T_(R - 1), nF_(ls.NumFaces()) {
-    base_ = TessellateLimit(ls, ctrl, std::max(T_, minSegments));
-    if (base_.N != T_) texGrid_ = TessellateLimit(ls, ctrl, T_);
+  static constexpr int kMaxTerms = 8;
+  DisplacedModel(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a, int minSegments)
+      : space_(ls, a) {
+    base_ = TessellateLimit(ls, ctrl, DisplacedSegments(a, minSegments));
     const int nB = NumBase();
     bt_.resize(nB);
     bw_.resize(nB);
+    bn_.assign(nB, 0);
     for (int k = 0; k < nB; ++k) {
-      const TileCell c = CellAt(base_.uv[k], T_);
       const int f = base_.face[k];
-      bt_[k] = {Tex().GridId(f, c.i, c.j), Tex().GridId(f, c.i + 1, c.j), Tex().GridId(f, c.i, c.j + 1),
-                Tex().GridId(f, c.i + 1, c.j + 1)};
-      bw_[k] = {c.w[0], c.w[1], c.w[2], c.w[3]};
+      const TileCell c = CellAt(base_.uv[k], a.tileR[f] - 1);
+      const int ti[4] = {c.i, c.i + 1, c.i, c.i + 1}, tj[4] = {c.j, c.j, c.j + 1, c.j + 1};
+      for (int q = 0; q < 4; ++q) {
+        if (c.w[q] == 0) continue;
+        const TexelSpace::Term& t = space_.At(f, ti[q], tj[q]);
+        for (int s = 0; s < t.n; ++s) {
+          int slot = 0;
+          while (slot < bn_[k] && bt_[k][slot] != t.id[s]) ++slot;
+          if (slot == bn_[k]) {
+            bt_[k][slot] = t.id[s];
+            bw_[k][slot] = 0;
+            ++bn_[k];
+          }
+          bw_[k][slot] += c.w[q] * t.w[s];
+        }
+      }
     }
   }
   const LimitTessellation& Base() const { return base_; }
-  const LimitTessellation& Tex() const { return base_.N == T_ ? base_ : texGrid_; }
-  int NumTexels() const { return int(Tex().mesh.V.size()); }
+  const TexelSpace& Space() const { return space_; }
+  int NumUnknowns() const { return space_.NumUnknowns(); }
   int NumBase() const { return int(base_.mesh.V.size()); }
-  const std::array<int, 4>& Texels(int k) const { return bt_[k]; }
-  const std::array<double, 4>& Weights(int k) const { return bw_[k]; }
-  // Texel values of the atlas's tiles, by welded id.
-  Eigen::VectorXd Gather(const DisplacementAtlas& a) const {
-    Eigen::VectorXd d(NumTexels());
-    for (int f = 0; f < nF_; ++f)
-      for (int j = 0; j <= T_; ++j)
-        for (int i = 0; i <= T_; ++i) d[Tex().GridId(f, i, j)] = a.disp[a.Pixel(f, i, j)];
-    return d;
-  }
-  // Writes the texel values into every tile (shared texels into each tile that has them).
-  void Scatter(const Eigen::VectorXd& d, DisplacementAtlas& a) const {
-    for (int f = 0; f < nF_; ++f)
-      for (int j = 0; j <= T_; ++j)
-        for (int i = 0; i <= T_; ++i) a.disp[a.Pixel(f, i, j)] = float(d[Tex().GridId(f, i, j)]);
-  }
+  int Terms(int k) const { return bn_[k]; }
+  const std::array<int, kMaxTerms>& Unknowns(int k) const { return bt_[k]; }
+  const std::array<double, kMaxTerms>& Weights(int k) const { return bw_[k]; }
   double Displacement(int k, const Eigen::VectorXd& d) const {
     double s = 0;
-    for (int q = 0; q < 4; ++q) s += bw_[k][q] * d[bt_[k][q]];
+    for (int q = 0; q < bn_[k]; ++q) s += bw_[k][q] * d[bt_[k][q]];
     return s;
   }
   TriData Mesh(const Eigen::VectorXd& d) const {
@@ -279,10 +645,11 @@ class DisplacedModel {
   }
 
  private:
-  int T_, nF_;
-  LimitTessellation base_, texGrid_;
-  std::vector<std::array<int, 4>> bt_;
-  std::vector<std::array<double, 4>> bw_;
+  TexelSpace space_;
+  LimitTessellation base_;
+  std::vector<std::array<int, kMaxTerms>> bt_;
+  std::vector<std::array<double, kMaxTerms>> bw_;
+  std::vector<int> bn_;
 };
 }  // namespace
 
@@ -291,21 +658,18 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
                                      DisplacementAtlas& a) {
   DisplacementFitStats st;
   const int nF = ls.NumFaces();
-  if (!ls.Ok() || nF == 0 || a.R < 2 || ref.V.empty() || p.iterations < 1 || !(p.anchorWeight > 0) ||
-      !(maxDist > 0))
+  if (!ls.Ok() || nF == 0 || ref.V.empty() || p.iterations < 1 || !(p.anchorWeight > 0) || !(maxDist > 0))
     return st;
   // the atlas must be a layout of this surface (BakeDisplacement's)
-  if (a.cols < 1 || a.rows < 1 || size_t(a.cols) * a.rows < size_t(nF) || a.width != a.cols * a.R ||
-      a.height != a.rows * a.R || a.disp.size() != size_t(a.width) * a.height)
-    return st;
-  const DisplacedModel model(ls, ctrl, a.R, minSegments);
+  if (!LayoutOk(a, nF)) return st;
+  const DisplacedModel model(ls, ctrl, a, minSegments);
   const LimitTessellation& base = model.Base();
-  const int nX = model.NumTexels();
+  const int nX = model.NumUnknowns();
   // Point-sampled (ray) values: the anchor of every texel.
-  const Eigen::VectorXd d0 = model.Gather(a);
+  const Eigen::VectorXd d0 = model.Space().Gather(a);
   Eigen::VectorXd d = d0;
   const int nR = int(ref.V.size());
-  constexpr int kMaxRow = 12;  // 3 triangle corners × 4 bilinear texels
+  constexpr int kMaxRow = 3 * DisplacedModel::kMaxTerms;  // 3 triangle corners
   std::vector<std::array<int, kMaxRow>> rowIdx(nR);
   std::vector<std::array<double, kMaxRow>> rowW(nR);
   std::vector<int> rowLen(nR);
@@ -339,12 +703,11 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
         const int k = tri[c];
         L += b[c] * base.mesh.V[k];
         const double ck = b[c] * base.normal[k].dot(m);
-        for (int q = 0; q < 4; ++q)
-          if (model.Weights(k)[q] != 0) {
-            rowIdx[r][len] = model.Texels(k)[q];
-            rowW[r][len] = ck * model.Weights(k)[q];
-            ++len;
-          }
+        for (int q = 0; q < model.Terms(k); ++q) {
+          rowIdx[r][len] = model.Unknowns(k)[q];
+          rowW[r][len] = ck * model.Weights(k)[q];
+          ++len;
+        }
       }
       rowLen[r] = len;
       rhs0[r] = (x - L).dot(m);
@@ -384,8 +747,8 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
   }
   st.rmsAfter = std::isfinite(bestRms) ? bestRms : st.rmsBefore;
   if (st.iterations > 0) {  // a solve was kept (else the atlas stays exactly as baked)
-    model.Scatter(best, a);
-    Quantize(a, nF);
+    model.Space().Scatter(best, a);
+    Quantize(a);
   }
   return st;
 }
@@ -401,11 +764,12 @@ int FoldedTriangles(const LimitTessellation& t) {
 
 LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a,
                                    int minSegments) {
-  const int T = a.R - 1;  // texel intervals per tile side
-  LimitTessellation t = TessellateLimit(ls, ctrl, std::max(T, minSegments));
+  if (!LayoutOk(a, ls.NumFaces()) || a.q16.size() != a.disp.size()) return {};
+  LimitTessellation t = TessellateLimit(ls, ctrl, DisplacedSegments(a, minSegments));
   for (size_t v = 0; v < t.mesh.V.size(); ++v) {
-    const TileCell c = CellAt(t.uv[v], T);
-    const int f = t.face[v], i = c.i, j = c.j;
+    const int f = t.face[v];
+    const TileCell c = CellAt(t.uv[v], a.tileR[f] - 1);
+    const int i = c.i, j = c.j;
     const double d = c.w[0] * a.Decoded(f, i, j) + c.w[1] * a.Decoded(f, i + 1, j) +
                      c.w[2] * a.Decoded(f, i, j + 1) + c.w[3] * a.Decoded(f, i + 1, j + 1);
     t.mesh.V[v] += d * t.normal[v];
@@ -519,8 +883,15 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.times.emplace_back("tessellate", Since(t));
   prog(60, "Fit and bake: baking displacement", true);
   t = Clock::now();
-  const int R = p.textureResolution > 0 ? p.textureResolution : AutoTextureResolution(r.referenceVertices, ls.NumFaces());
-  r.atlas = BakeDisplacement(ls, ctrl, ref, scene, R, maxDist, p.normalMap);
+  if (p.textureResolution > 0 || !p.adaptiveTiles)
+    UniformAtlasLayout(r.atlas, ls.NumFaces(),
+                       p.textureResolution > 0 ? p.textureResolution
+                                               : AutoTextureResolution(r.referenceVertices, ls.NumFaces()));
+  else
+    AdaptiveAtlasLayout(r.atlas, AdaptiveTileResolutions(PatchAreas(r.limit, ls.NumFaces()),
+                                                         PatchVertexCounts(r.limit, ls.NumFaces(), ref),
+                                                         AutoTextureBudget(r.referenceVertices, ls.NumFaces())));
+  BakeDisplacement(ls, ctrl, ref, scene, maxDist, p.normalMap, r.atlas);
   if (p.fitDisplacement)
     r.displacementFit = FitDisplacement(ls, ctrl, ref, p.limitSegments, maxDist, p.displacementFit, r.atlas);
   r.displaced = DisplacedSurface(ls, ctrl, r.atlas, p.limitSegments);
@@ -580,7 +951,11 @@ std::string FormatReport(const FitBakeResult& r) {
   o << "limit error RMS " << r.metrics.rmsLimitPermille << " max " << r.metrics.maxLimitPermille
     << " (permille of bbox diagonal, per reference vertex)\n";
   o << "displaced error RMS " << r.metrics.rmsDisplacedPermille << " max " << r.metrics.maxDisplacedPermille
-    << " (texture " << r.atlas.width << "x" << r.atlas.height << ", tile " << r.atlas.R << ", "
+    << " (texture " << r.atlas.width << "x" << r.atlas.height << ", "
+    << (r.atlas.adaptive ? "adaptive tiles " : "tile ")
+    << (r.atlas.tileR.empty() ? 0 : *std::min_element(r.atlas.tileR.begin(), r.atlas.tileR.end()))
+    << (r.atlas.adaptive ? ".." + std::to_string(r.atlas.R) : std::string()) << ", " << r.atlas.Samples()
+    << " samples, "
     << (r.displacementFit.fitted ? "least-squares texels" : "point-sampled texels") << ")\n";
   o << "displaced error area-weighted: reference -> displaced RMS " << r.metrics.rmsDisplacedAreaPermille
     << ", displaced -> reference RMS " << r.metrics.rmsDisplacedToRefPermille << " max "

@@ -21,8 +21,8 @@
 
 namespace vcgext {
 
-/// A welded tessellation of the limit surface: each patch is an N×N grid of quads split into
-/// 2N² triangles; vertices on shared patch edges/corners are shared. Per vertex: the patch and
+/// A welded tessellation of the limit surface: each patch is a grid of quads split into
+/// triangles; vertices on shared patch edges/corners are shared. Per vertex: the patch and
 /// (u,v) it was evaluated at, the unit limit normal, and (when computed) `quality`.
 struct LimitTessellation {
   TriData mesh;
@@ -30,39 +30,73 @@ struct LimitTessellation {
   std::vector<int> face;
   std::vector<Eigen::Vector2d> uv;
   std::vector<double> quality;  ///< e.g. signed distance to the reference (absolute units)
-  int N = 0;                    ///< segments per patch side
-  /// Welded grid numbering: grid[f·(N+1)² + j·(N+1) + i] is the vertex at (u,v) = (i/N, j/N) of
-  /// patch f; vertices on shared patch edges and corners have one id.
-  std::vector<int> grid;
-  int GridId(int f, int i, int j) const { return grid[(size_t(f) * (N + 1) + j) * (N + 1) + i]; }
+  std::vector<int> triPatch;    ///< per triangle: its patch
+  int N = 0;                    ///< segments per patch side when all patches have the same count, else 0
 };
 
-/// Tessellates the limit of control points `ctrl` over `ls` with N segments per patch side.
-/// Cost: O(F·N²) stencil evaluations (parallel). Preconditions: ls.Ok(), N >= 1, quads.
+/// Tessellates the limit of control points `ctrl` over `ls` with N segments per patch side
+/// (N×N quads, 2N² triangles per patch, stored patch by patch). Cost: O(F·N²) stencil
+/// evaluations (parallel). Preconditions: ls.Ok(), N >= 1, quads.
 LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int N);
+/// Same with segments[f] per side of patch f (>= 1), still welded and watertight: a shared edge
+/// carries the union of its two patches' segment points, and the grid cells along an edge with
+/// extra points are fanned to them. With equal counts it is exactly the uniform version.
+LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3>& ctrl,
+                                  const std::vector<int>& segments);
 
 /// Signed distance from each point to the reference surface (closest point; sign > 0 on the
 /// side the reference face normal points to). Points farther than maxDist get ±maxDist (+).
 std::vector<double> SignedDistanceToReference(const std::vector<Vec3>& pts, const EmbreeScene& ref, double maxDist);
 
-/// The displacement atlas. Tile of patch f: column f % cols, row f / cols; its texel (i,j)
-/// (pixel x = col·R + i, y = row·R + j, y downwards, row 0 on top of the PNG) holds the signed
-/// displacement along the limit normal at (u,v) = (i/(R−1), j/(R−1)). Texel centres of a tile's
-/// corner texels are the patch corners, so wedge UVs at those centres map a tile exactly onto
-/// its patch and bilinear texture filtering reproduces the baked grid.
+/// The displacement atlas: one square tile per patch. Tile of patch f: tileR[f] texels per side,
+/// top-left pixel (tileX[f], tileY[f]) (y downwards, row 0 on top of the PNG); its texel (i,j)
+/// holds the signed displacement along the limit normal at (u,v) = (i/(tileR−1), j/(tileR−1)).
+/// Texel centres of a tile's corner texels are the patch corners, so wedge UVs at those centres
+/// map a tile exactly onto its patch and bilinear texture filtering reproduces the baked grid.
+/// Uniform layout (the paper's): every tile R×R in a grid of `cols` columns (patch f at column
+/// f % cols, row f / cols). Adaptive layout: tile sizes 2^k+1 chosen per patch
+/// (AdaptiveTileResolutions), shelf-packed; `R` is then the largest tile, cols = rows = 0.
 struct DisplacementAtlas {
   int R = 0, cols = 0, rows = 0, width = 0, height = 0;
+  bool adaptive = false;
+  std::vector<int> tileR, tileX, tileY;  ///< per patch
   std::vector<float> disp;          ///< width·height signed displacements (absolute units); 0 outside tiles
   std::vector<std::uint16_t> q16;   ///< quantized: disp ≈ offset + scale · q16
   double scale = 0, offset = 0;
   std::vector<std::uint8_t> normalRGB;  ///< optional 3·width·height object-space normal map ((n+1)/2·255)
   std::vector<std::array<Eigen::Vector2d, 4>> wedgeUV;  ///< per control quad corner, OpenGL convention (v up)
   int misses = 0;                   ///< texels whose normal ray missed (closest-point fallback used)
+  int Patches() const { return int(tileR.size()); }
   /// Index into disp / q16 (and / 3 into normalRGB) of patch f's texel (i,j).
-  size_t Pixel(int f, int i, int j) const { return size_t((f / cols) * R + j) * width + (f % cols) * R + i; }
+  size_t Pixel(int f, int i, int j) const { return size_t(tileY[f] + j) * width + tileX[f] + i; }
   /// Decoded (quantized) displacement of patch f at texel (i,j).
   double Decoded(int f, int i, int j) const { return offset + scale * q16[Pixel(f, i, j)]; }
+  /// Texels stored in the tiles (Σ tileR²).
+  long long Samples() const;
 };
+
+/// Sets `a`'s layout to F uniform R×R tiles (the paper's) and sizes disp (zeros).
+void UniformAtlasLayout(DisplacementAtlas& a, int F, int R);
+/// Sets `a`'s layout to the given tile sizes, shelf-packed (tallest first) into a near-square
+/// image, and sizes disp (zeros).
+void AdaptiveAtlasLayout(DisplacementAtlas& a, const std::vector<int>& tileR);
+
+/// Adaptive texel allocation (beyond the paper, see docs/fit.md "Tile sizes"): tile sizes
+/// 2^k + 1 (k = 1..6) per patch, Σ tileR² <= `budget`, chosen to minimize (exactly, by dynamic
+/// programming over the budget) the modelled displaced error Σ_f vertices_f · area_f / (tileR_f − 1)² (a reference vertex is
+/// off the bilinear layer by about the texel spacing). Powers of two make a coarser tile's edge
+/// texels a subset of its finer neighbour's, so the two tiles agree exactly along the shared
+/// edge (the finer tile's extra edge texels interpolate the coarser's): seamless displacement.
+/// `patchVertices`: reference vertices per patch (PatchVertexCounts).
+std::vector<int> AdaptiveTileResolutions(const std::vector<double>& patchArea, const std::vector<double>& patchVertices,
+                                         double budget);
+/// The sample budget of the automatic resolutions: the paper's (total samples ≈ reference
+/// vertices), but at least kMinAutoTextureResolution² per patch (see AutoTextureResolution).
+double AutoTextureBudget(int referenceVertices, int patches);
+/// Area of each patch of a tessellation (by triPatch).
+std::vector<double> PatchAreas(const LimitTessellation& t, int patches);
+/// Reference vertices whose closest point on the tessellation `t` lies on each patch.
+std::vector<double> PatchVertexCounts(const LimitTessellation& t, int patches, const TriData& ref);
 
 /// Resolution of the paper (§4): total samples ≈ reference vertices, R = round(√(nRef/F)), but at
 /// least kMinAutoTextureResolution. Decision (beyond the paper): on a coarse reference the paper's
@@ -79,6 +113,12 @@ constexpr int kMinAutoTextureResolution = 8;
 /// normal at the hit (object space). Cost: F·R² ray casts (parallel).
 DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                                    const EmbreeScene& scene, int R, double maxDist, bool normalMap);
+/// Same into the tiles of a prepared layout (UniformAtlasLayout / AdaptiveAtlasLayout, one tile
+/// per patch, every tile >= 2). Texels that stand for the same surface point in several tiles
+/// (shared edges and corners) get one value, and a finer tile's extra texels along an edge
+/// shared with a coarser tile are interpolated from the coarser one's: the tiles are seamless.
+void BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
+                      const EmbreeScene& scene, double maxDist, bool normalMap, DisplacementAtlas& a);
 
 /// Parameters of FitDisplacement.
 struct DisplacementFitParams {
@@ -119,7 +159,7 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
 int FoldedTriangles(const LimitTessellation& t);
 
 /// The displaced surface as a renderer shows it: the limit surface tessellated with
-/// max(R-1, minSegments) segments per patch side, each vertex moved along the limit normal by
+/// max(tileR-1, minSegments) segments per side of each patch (welded, TessellateLimit), each vertex moved along the limit normal by
 /// the bilinearly filtered (decoded 16-bit) displacement of its patch's tile. With
 /// minSegments <= R-1 the vertices sit exactly on the texels. Decision: a tile coarser than the
 /// limit layer (automatic R is small when patches are many) must not make the displaced surface
@@ -171,7 +211,8 @@ double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, co
 struct FitBakeParams {
   FitParams fit;
   int limitSegments = 8;          ///< N: output limit layer tessellation per patch side
-  int textureResolution = 0;      ///< R per tile side; 0 = automatic (AutoTextureResolution)
+  int textureResolution = 0;      ///< R per tile side (uniform tiles); 0 = automatic
+  bool adaptiveTiles = true;      ///< automatic R: per-patch tiles by area (AdaptiveTileResolutions); false: the paper's one R
   bool normalMap = false;         ///< also bake the normal map
   double maxDistPercent = 10.0;   ///< max displacement / projection distance, % bbox diagonal
   int metricSegments = 0;         ///< tessellation used for the limit error / projectability; 0 = auto

@@ -2,6 +2,7 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -113,14 +114,27 @@ std::string WriteAtlasJson(const std::string& path, const DisplacementAtlas& a, 
     << "  \"image\": \"" << Esc(pngName) << "\",\n"
     << "  \"normal_image\": " << (normalPngName.empty() ? "null" : "\"" + Esc(normalPngName) + "\"") << ",\n"
     << "  \"width\": " << a.width << ",\n  \"height\": " << a.height << ",\n"
+    << "  \"tile_sizes\": \"" << (a.adaptive ? "adaptive" : "uniform") << "\",\n"
     << "  \"tile\": " << a.R << ",\n  \"columns\": " << a.cols << ",\n  \"rows\": " << a.rows << ",\n"
     << "  \"patches\": " << a.wedgeUV.size() << ",\n"
+    << "  \"samples\": " << a.Samples() << ",\n"
     << "  \"scale\": " << Num(a.scale) << ",\n  \"offset\": " << Num(a.offset) << ",\n"
     << "  \"decode\": \"displacement = offset + scale * value (mesh units, along the unit limit normal)\",\n"
-    << "  \"layout\": \"patch f -> tile column f % columns, row f / columns (row 0 at the top of the image); "
-       "texel (i,j) of a tile = limit parameter (u,v) = (i/(tile-1), j/(tile-1)), j growing downwards; "
-       "wedge UVs sit at the corner texel centres (v up)\",\n"
-    << "  \"misses\": " << a.misses << "\n}\n";
+    << "  \"layout\": \""
+    << (a.adaptive ? "patch f -> tiles[f] = [x, y, size]: the size x size texels whose top-left pixel is (x, y) "
+                     "(row 0 at the top of the image); sizes are 2^k+1, and along an edge shared with a "
+                     "coarser tile the extra texels interpolate the coarser tile's (seamless); "
+                   : "patch f -> tile column f % columns, row f / columns (row 0 at the top of the image), "
+                     "tile x tile texels; ")
+    << "texel (i,j) of a tile = limit parameter (u,v) = (i/(size-1), j/(size-1)), j growing downwards; "
+       "wedge UVs sit at the corner texel centres (v up)\",\n";
+  if (a.adaptive) {
+    o << "  \"tiles\": [";
+    for (int f = 0; f < a.Patches(); ++f)
+      o << (f ? ", " : "") << "[" << a.tileX[f] << ", " << a.tileY[f] << ", " << a.tileR[f] << "]";
+    o << "],\n";
+  }
+  o << "  \"misses\": " << a.misses << "\n}\n";
   return o ? "" : "write error on " + path;
 }
 
@@ -248,7 +262,11 @@ std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::
   o << "],\n"
     << "  \"texture_width\": " << r.atlas.width << ",\n"
     << "  \"texture_height\": " << r.atlas.height << ",\n"
-    << "  \"texture_tile\": " << r.atlas.R << "\n}\n";
+    << "  \"texture_tile\": " << r.atlas.R << ",\n"
+    << "  \"texture_tile_min\": "
+    << (r.atlas.tileR.empty() ? 0 : *std::min_element(r.atlas.tileR.begin(), r.atlas.tileR.end())) << ",\n"
+    << "  \"texture_tiles\": \"" << (r.atlas.adaptive ? "adaptive" : "uniform") << "\",\n"
+    << "  \"texture_samples\": " << r.atlas.Samples() << "\n}\n";
   return o.str();
 }
 
