@@ -25,7 +25,7 @@ shot control "$OUT/control.ply"
 shot patches "$tmp/patches.ply"
 shot limit "$OUT/limit.ply"
 shot displaced "$OUT/displaced.ply"
-convert "$OUT/displacement.png" -auto-level -resize 300x "$IMG/displacement_atlas.png"
+convert "$OUT/displacement.png" -contrast-stretch 0.5%x0.5% -resize 300x "$IMG/displacement_atlas.png"
 # Loop surrogate: adaptive refinement and mean curvature of fandisk.
 "$REPO/scripts/meshlabserver.sh" -i "$REPO/.deps/data/meshes/fandisk.off" -o "$tmp/fandisk_refined.ply" \
   -s "$REPO/meshlab_scripts/loop_refine.mlx" >/dev/null 2>&1
