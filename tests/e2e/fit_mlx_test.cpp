@@ -2,6 +2,7 @@
 // written here) is fitted to a dense sphere; the fit must be close to the analytic sphere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -190,6 +191,34 @@ TEST(MlxScripts, FitAndBakeLeastSquaresDisplacementBeatsPointSamples) {
   }
   EXPECT_DOUBLE_EQ(lim[0], lim[1]);
   EXPECT_LT(disp[1], 0.7 * disp[0]) << disp[0] << " -> " << disp[1];
+}
+
+// "Tile size per patch" (adaptiveTiles, docs/fit.md "Tile sizes") through meshlabserver: the
+// report and the atlas sidecar say which layout was baked, the per-patch layout lists one tile
+// per patch, and both spend about the same samples (the paper's budget).
+TEST(MlxScripts, FitAndBakeTileSizePerPatch) {
+  const std::string dir = e2e::OutPath("fit_tiles");
+  double samples[2];
+  const char* values[2] = {"false", "true"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string out = FitBumpySphereWith(dir, "adaptiveTiles", values[i]);
+    ASSERT_FALSE(out.empty());
+    const std::string json = e2e::Slurp(out + "/report.json");
+    const std::string atlas = e2e::Slurp(out + "/displacement.json");
+    const std::string kind = i ? "adaptive" : "uniform";
+    EXPECT_NE(json.find("\"texture_tiles\": \"" + kind + "\""), std::string::npos) << json;
+    EXPECT_NE(atlas.find("\"tile_sizes\": \"" + kind + "\""), std::string::npos) << atlas;
+    EXPECT_EQ(atlas.find("\"tiles\": ["), i ? atlas.find("\"tiles\": [") : std::string::npos);
+    if (i) {  // one [x, y, size] per patch
+      const size_t b = atlas.find("\"tiles\": [");
+      ASSERT_NE(b, std::string::npos);
+      const std::string list = atlas.substr(b, atlas.find("]],", b) - b);
+      EXPECT_EQ(std::count(list.begin(), list.end(), '[') - 1, JsonNumber(json, "patches")) << list.substr(0, 200);
+    }
+    samples[i] = JsonNumber(json, "texture_samples");
+    EXPECT_GT(samples[i], 0);
+  }
+  EXPECT_NEAR(samples[1], samples[0], 0.25 * samples[0]);
 }
 
 TEST(MlxScripts, FitAndBakeRejectsNegativeCageSmoothing) {

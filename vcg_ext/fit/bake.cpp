@@ -280,48 +280,87 @@ std::vector<int> AdaptiveTileResolutions(const std::vector<double>& patchArea, c
   // texel spacing √(area_f)/T_f (measured on bunny00: the RMS per patch grows linearly with the
   // spacing), so the squared error summed over the reference vertices is Σ_f W_f / T_f² with
   // W_f = vertices_f · area_f, to minimize under Σ (T_f+1)² <= budget: a multiple-choice
-  // knapsack, solved exactly by dynamic programming. (T+1)² = 1 + 8·c with c = 1, 3, 10, 36,
-  // 136, 528, so the budget is counted in units of 8·g texels beyond one per patch (g = 1
-  // unless F × units would exceed 4·10⁷ table cells; costs round up, so the budget holds).
-  int cost8[kLevels];
+  // knapsack. Every patch pays for its 3×3 tile first; (T+1)² − 9 = 8·c with
+  // c = 0, 2, 9, 35, 135, 527 extra units of 8 texels.
+  std::vector<double> W(F);
+  for (int f = 0; f < F; ++f) W[f] = std::max(patchVertices[f], 0.0) * std::max(patchArea[f], 0.0);
+  int extra[kLevels];
+  double err[kLevels];
   for (int k = 0; k < kLevels; ++k) {
     const int t = 2 << k;
-    cost8[k] = ((t + 1) * (t + 1) - 1) / 8;
+    extra[k] = ((t + 1) * (t + 1) - 9) / 8;
+    err[k] = 1.0 / (double(t) * t);
   }
-  const double spare = (budget - F) / 8.0;
-  if (!(spare >= double(cost8[0]) * F)) return R;  // not even the smallest tiles fit
-  const long long units8 = (long long)std::floor(spare);
-  const long long g = std::max(1LL, (long long)std::ceil(double(F) * (units8 + 1) / 4e7));
-  const int S = int(units8 / g);
-  int cost[kLevels];
-  for (int k = 0; k < kLevels; ++k) cost[k] = int((cost8[k] + g - 1) / g);
-  const double inf = std::numeric_limits<double>::infinity();
-  std::vector<double> best(S + 1, inf), next(S + 1);
-  best[0] = 0;
-  std::vector<std::uint8_t> choice(size_t(F) * (S + 1), 0);
-  for (int f = 0; f < F; ++f) {
-    const double w = std::max(patchVertices[f], 0.0) * std::max(patchArea[f], 0.0);
-    std::fill(next.begin(), next.end(), inf);
-    std::uint8_t* ch = choice.data() + size_t(f) * (S + 1);
-    for (int k = 0; k < kLevels; ++k) {
-      const double t = 2 << k, e = w / (t * t);
-      for (int s = cost[k]; s <= S; ++s) {
-        const double v = best[s - cost[k]] + e;
-        if (v < next[s]) {  // ties: the smaller tile (k ascending)
-          next[s] = v;
-          ch[s] = std::uint8_t(k);
+  const double spare = (budget - 9.0 * F) / 8.0;
+  if (!(spare >= 1)) return R;  // no room beyond the smallest tiles
+  const long long units = (long long)std::min(spare, double(extra[kLevels - 1]) * F);
+  std::vector<int> level(F, 0);
+  if (double(F) * double(units + 1) <= 4e7) {
+    // Exact: dynamic programming over the spare units (bunny00: 379 × 4.3k cells).
+    const int S = int(units);
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<double> best(S + 1, inf), next(S + 1);
+    best[0] = 0;
+    std::vector<std::uint8_t> choice(size_t(F) * (S + 1), 0);
+    for (int f = 0; f < F; ++f) {
+      std::fill(next.begin(), next.end(), inf);
+      std::uint8_t* ch = choice.data() + size_t(f) * (S + 1);
+      for (int k = 0; k < kLevels; ++k) {
+        const double e = W[f] * err[k];
+        for (int s = extra[k]; s <= S; ++s) {
+          const double v = best[s - extra[k]] + e;
+          if (v < next[s]) {  // ties: the smaller tile (k ascending)
+            next[s] = v;
+            ch[s] = std::uint8_t(k);
+          }
         }
       }
+      best.swap(next);
     }
-    best.swap(next);
+    int s = int(std::min_element(best.begin(), best.end()) - best.begin());
+    for (int f = F - 1; f >= 0; --f) {
+      level[f] = choice[size_t(f) * (S + 1) + s];
+      s -= extra[level[f]];
+    }
+  } else {
+    // Many patches: Lagrangian relaxation (each patch minimizes W·err + λ·extra on its own; the
+    // smallest λ that fits, by bisection), then the best upgrades that still fit. Optimal up to
+    // the leftover of one knapsack step, which is small against a budget this large.
+    double maxW = 0;
+    for (double w : W) maxW = std::max(maxW, w);
+    auto choose = [&](double lambda, std::vector<int>& out) {
+      long long n = 0;
+      for (int f = 0; f < F; ++f) {
+        int bk = 0;
+        for (int k = 1; k < kLevels; ++k)
+          if (W[f] * err[k] + lambda * extra[k] < W[f] * err[bk] + lambda * extra[bk]) bk = k;
+        out[f] = bk;
+        n += extra[bk];
+      }
+      return n;
+    };
+    std::vector<int> trial(F);
+    double lo = std::log(std::max(maxW, 1e-300)) - 80, hi = std::log(std::max(maxW, 1e-300)) + 5;
+    for (int it = 0; it < 100; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (choose(std::exp(mid), trial) <= units ? hi : lo) = mid;
+    }
+    long long used = choose(std::exp(hi), level);
+    for (;;) {
+      int bf = -1;
+      double bestRate = 0;
+      for (int f = 0; f < F; ++f) {
+        const int k = level[f];
+        if (k + 1 >= kLevels || used + extra[k + 1] - extra[k] > units) continue;
+        const double rate = W[f] * (err[k] - err[k + 1]) / (extra[k + 1] - extra[k]);
+        if (rate > bestRate) { bestRate = rate; bf = f; }
+      }
+      if (bf < 0) break;
+      used += extra[level[bf] + 1] - extra[level[bf]];
+      ++level[bf];
+    }
   }
-  int s = int(std::min_element(best.begin(), best.end()) - best.begin());
-  if (!std::isfinite(best[s])) return R;
-  for (int f = F - 1; f >= 0; --f) {
-    const int k = choice[size_t(f) * (S + 1) + s];
-    R[f] = (2 << k) + 1;
-    s -= cost[k];
-  }
+  for (int f = 0; f < F; ++f) R[f] = (2 << level[f]) + 1;
   return R;
 }
 

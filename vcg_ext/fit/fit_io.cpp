@@ -115,8 +115,9 @@ std::string WriteAtlasJson(const std::string& path, const DisplacementAtlas& a, 
     << "  \"normal_image\": " << (normalPngName.empty() ? "null" : "\"" + Esc(normalPngName) + "\"") << ",\n"
     << "  \"width\": " << a.width << ",\n  \"height\": " << a.height << ",\n"
     << "  \"tile_sizes\": \"" << (a.adaptive ? "adaptive" : "uniform") << "\",\n"
-    << "  \"tile\": " << a.R << ",\n  \"columns\": " << a.cols << ",\n  \"rows\": " << a.rows << ",\n"
-    << "  \"patches\": " << a.wedgeUV.size() << ",\n"
+    << "  \"tile\": " << a.R << ",\n";
+  if (!a.adaptive) o << "  \"columns\": " << a.cols << ",\n  \"rows\": " << a.rows << ",\n";
+  o << "  \"patches\": " << a.wedgeUV.size() << ",\n"
     << "  \"samples\": " << a.Samples() << ",\n"
     << "  \"scale\": " << Num(a.scale) << ",\n  \"offset\": " << Num(a.offset) << ",\n"
     << "  \"decode\": \"displacement = offset + scale * value (mesh units, along the unit limit normal)\",\n"
