@@ -134,6 +134,31 @@ TriData BumpySphere(int level, double amp) {
   return t;
 }
 
+// The wedge UVs of every patch sit at the corner texel centres of its own tile, and the tiles
+// do not overlap.
+void ExpectTilesMapToTheirPatches(const DisplacementAtlas& a, int patches) {
+  ASSERT_EQ(int(a.wedgeUV.size()), patches);
+  ASSERT_EQ(a.Patches(), patches);
+  const int cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
+  std::vector<int> owner(size_t(a.width) * a.height, -1);
+  for (int f = 0; f < patches; ++f) {
+    const int R = a.tileR[f], x0 = a.tileX[f], y0 = a.tileY[f];
+    ASSERT_LE(x0 + R, a.width);
+    ASSERT_LE(y0 + R, a.height);
+    for (int c = 0; c < 4; ++c) {
+      const double x = a.wedgeUV[f][c][0] * a.width - 0.5, y = (1.0 - a.wedgeUV[f][c][1]) * a.height - 0.5;
+      EXPECT_NEAR(x, x0 + cu[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
+      EXPECT_NEAR(y, y0 + cv[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
+    }
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i) {
+        int& o = owner[size_t(y0 + j) * a.width + x0 + i];
+        EXPECT_EQ(o, -1) << "tiles of " << o << " and " << f << " overlap";
+        o = f;
+      }
+  }
+}
+
 }  // namespace
 
 TEST(CCFit, RecoversAKnownLimitSurface) {
@@ -246,25 +271,14 @@ TEST(CCFit, EveryTileMapsToItsPatch) {
   LimitSurface ls = LimitSurface::FromQuads(q);
   const int R = 6;
   DisplacementAtlas a = BakeDisplacement(ls, q.V, ref, scene, R, 0.1 * BBoxDiagonal(ref.V), true);
-  ASSERT_EQ(int(a.wedgeUV.size()), ls.NumFaces());
   ASSERT_GE(a.cols * a.rows, ls.NumFaces());
-  const int cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
-  std::vector<int> owner(size_t(a.width) * a.height, -1);
+  ASSERT_EQ(a.Patches(), ls.NumFaces());
+  ExpectTilesMapToTheirPatches(a, ls.NumFaces());
   for (int f = 0; f < ls.NumFaces(); ++f) {
-    const int x0 = (f % a.cols) * R, y0 = (f / a.cols) * R;
-    for (int c = 0; c < 4; ++c) {
-      // UV -> continuous pixel coordinates: texel centres of the tile's corner texels.
-      double x = a.wedgeUV[f][c][0] * a.width - 0.5, y = (1.0 - a.wedgeUV[f][c][1]) * a.height - 0.5;
-      EXPECT_NEAR(x, x0 + cu[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
-      EXPECT_NEAR(y, y0 + cv[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
-    }
-    // The UV quad covers exactly the tile's texels and no other face's.
-    for (int j = 0; j < R; ++j)
-      for (int i = 0; i < R; ++i) {
-        int& o = owner[size_t(y0 + j) * a.width + x0 + i];
-        EXPECT_EQ(o, -1);
-        o = f;
-      }
+    // the paper's layout: R×R tiles, patch f at column f % cols, row f / cols
+    EXPECT_EQ(a.tileR[f], R);
+    EXPECT_EQ(a.tileX[f], (f % a.cols) * R);
+    EXPECT_EQ(a.tileY[f], (f / a.cols) * R);
     // Texel (i,j) holds the displacement at (u,v) = (i,j)/(R-1): check one texel by ray cast.
     Vec3 P, Du, Dv;
     ls.Evaluate(f, 2.0 / (R - 1), 3.0 / (R - 1), q.V, &P, &Du, &Dv);
@@ -764,31 +778,6 @@ bool ClosedAndOriented(const TriData& m, std::string* why) {
     if (!directed.count({kv.first.second, kv.first.first})) { *why = "boundary edge"; return false; }
   }
   return true;
-}
-
-// The wedge UVs of every patch sit at the corner texel centres of its own tile, and the tiles
-// do not overlap.
-void ExpectTilesMapToTheirPatches(const DisplacementAtlas& a, int patches) {
-  ASSERT_EQ(int(a.wedgeUV.size()), patches);
-  ASSERT_EQ(a.Patches(), patches);
-  const int cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
-  std::vector<int> owner(size_t(a.width) * a.height, -1);
-  for (int f = 0; f < patches; ++f) {
-    const int R = a.tileR[f], x0 = a.tileX[f], y0 = a.tileY[f];
-    ASSERT_LE(x0 + R, a.width);
-    ASSERT_LE(y0 + R, a.height);
-    for (int c = 0; c < 4; ++c) {
-      const double x = a.wedgeUV[f][c][0] * a.width - 0.5, y = (1.0 - a.wedgeUV[f][c][1]) * a.height - 0.5;
-      EXPECT_NEAR(x, x0 + cu[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
-      EXPECT_NEAR(y, y0 + cv[c] * (R - 1), 1e-9) << "face " << f << " corner " << c;
-    }
-    for (int j = 0; j < R; ++j)
-      for (int i = 0; i < R; ++i) {
-        int& o = owner[size_t(y0 + j) * a.width + x0 + i];
-        EXPECT_EQ(o, -1) << "tiles of " << o << " and " << f << " overlap";
-        o = f;
-      }
-  }
 }
 
 }  // namespace
