@@ -536,15 +536,16 @@ bool LayoutOk(const DisplacementAtlas& a, int nF) {
   if (a.Patches() != nF || int(a.tileX.size()) != nF || int(a.tileY.size()) != nF || a.width < 1 || a.height < 1 ||
       a.disp.size() != size_t(a.width) * a.height)
     return false;
+  bool uniform = true;
   for (int f = 0; f < nF; ++f) {
     const int r = a.tileR[f];
     if (r < 2 || a.tileX[f] < 0 || a.tileY[f] < 0 || a.tileX[f] + r > a.width || a.tileY[f] + r > a.height)
       return false;
-    if (r != a.tileR[0] && ((r - 1) & (r - 2)) != 0) return false;  // r−1 a power of two
+    uniform = uniform && r == a.tileR[0];
   }
-  if (a.tileR.size() && ((a.tileR[0] - 1) & (a.tileR[0] - 2)) != 0)
+  if (!uniform)  // mixed sizes must nest: every r−1 a power of two
     for (int r : a.tileR)
-      if (r != a.tileR[0]) return false;
+      if (((r - 1) & (r - 2)) != 0) return false;
   return true;
 }
 }  // namespace
