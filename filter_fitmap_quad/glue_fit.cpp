@@ -9,6 +9,7 @@
 
 #include "filter_table.h"
 #include "glue.h"
+#include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/core/quad_cleanup.h"
 #include "vcg_ext/core/quality.h"
 #include "vcg_ext/core/vcg_bridge.h"
@@ -78,9 +79,12 @@ bool ApplyFit(GlueContext& ctx) {
   // valence-2 vertices): merge them, as the simplification does (§3.3.3).
   if (int nd = vcgext::RemoveDoublets(quads))
     ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) + " doublets (interior valence-2 vertices) of the control mesh");
-  vcgext::TriData ref;
-  vcgext::ImportReport rep = vcgext::ImportTriangles(refModel->cm, ref);
-  if (!rep.error.empty()) return ctx.Fail("reference layer: " + rep.error);
+  // The reference's working copy (input_prep.h): stray vertices are no surface to fit.
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(refModel->cm);
+  if (!w.error.empty()) return ctx.Fail("reference layer: " + w.error);
+  for (const auto& n : w.notes) ctx.log("Fit Catmull-Clark Surface: reference layer: " + n);
+  for (const auto& n : w.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: reference layer: " + n);
+  const vcgext::TriData& ref = w.mesh;
 
   vcgext::FitBakeParams p;
   p.limitSegments = ctx.par.getInt(param::kLimitSegments);

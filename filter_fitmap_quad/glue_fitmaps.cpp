@@ -47,6 +47,8 @@ bool ApplyFitmaps(GlueContext& ctx) {
   auto t0 = std::chrono::steady_clock::now();
   vcgext::FitmapResult r = vcgext::ComputeFitmaps(mm.cm, p, ctx.cb);
   if (!r.error.empty()) return ctx.Fail("Compute Fitmaps: " + r.error);
+  for (const auto& n : r.notes) ctx.log("Compute Fitmaps: " + n);
+  for (const auto& n : r.warnings) ctx.log("Warning: Compute Fitmaps: " + n);
   double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   SetFitmapTau(mm.cm, p.tauPercent);

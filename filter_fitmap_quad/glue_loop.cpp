@@ -53,6 +53,12 @@ bool ReadSurfaceParams(GlueContext& ctx, CMeshO& m, vcgext::LoopSurfaceParams& s
   return true;
 }
 
+// The repairs made on the working copy (input_prep.h), one log line each.
+void LogWorkingCopy(GlueContext& ctx, const std::string& prefix, const vcgext::LoopVcgReport& rep) {
+  for (const auto& n : rep.notes) ctx.log(prefix + n);
+  for (const auto& n : rep.warnings) ctx.log("Warning: " + prefix + n);
+}
+
 }  // namespace
 
 void InitLoopRefineParams(MeshDocument& /*md*/, RichParameterList& par) {
@@ -82,6 +88,7 @@ bool ApplyLoopRefine(GlueContext& ctx) {
   CMeshO out;
   vcgext::LoopVcgReport rep = vcgext::LoopRefineMesh(net.cm, out, sp, interp, rp, ctx.cb);
   if (!rep.error.empty()) return ctx.Fail("Loop Surrogate: Refine Surface: " + rep.error);
+  LogWorkingCopy(ctx, "Loop Surrogate: Refine Surface: ", rep);
   MeshModel* m = ctx.md.addNewMesh("", net.label() + (interp ? " loop interpolated" : " loop refined"), true);
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(m->cm, out, false, true);
   m->UpdateBoxAndNormals();
@@ -128,6 +135,7 @@ bool ApplyLoopSnap(GlueContext& ctx) {
   if (copy.vn == 0) return ctx.Fail("the layer to snap has no vertices");
   vcgext::LoopVcgReport rep = vcgext::LoopSnapVertices(copy, net->cm, sp);
   if (!rep.error.empty()) return ctx.Fail("Loop Surrogate: Snap Points: " + rep.error);
+  LogWorkingCopy(ctx, "Loop Surrogate: Snap Points: control net: ", rep);
   size_t i = 0;
   pts.updateDataMask(MeshModel::MM_VERTQUALITY);
   for (auto& v : pts.cm.vert) {
@@ -160,12 +168,13 @@ bool ApplyLoopCurvature(GlueContext& ctx) {
   if (!ReadSurfaceParams(ctx, m.cm, sp)) return false;
   const int kind = ctx.par.getEnum(param::kCurvatureKind);
   if (kind < 0 || kind > 4) return ctx.Fail("unknown curvature kind");
-  m.updateDataMask(MeshModel::MM_VERTQUALITY);
-  // Compute on a copy so a failure leaves the layer's quality untouched.
+  // Compute on a copy so a failure leaves the layer (and whether it has quality) untouched.
   CMeshO copy;
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(copy, m.cm, false, true);
   vcgext::LoopVcgReport rep = vcgext::LoopCurvatureToQuality(copy, sp, vcgext::LoopCurvatureKind(kind));
   if (!rep.error.empty()) return ctx.Fail("Loop Surrogate: Curvature: " + rep.error);
+  LogWorkingCopy(ctx, "Loop Surrogate: Curvature: ", rep);
+  m.updateDataMask(MeshModel::MM_VERTQUALITY);
   size_t i = 0;
   for (auto& v : m.cm.vert)
     if (!v.IsD()) v.Q() = copy.vert[i++].Q();

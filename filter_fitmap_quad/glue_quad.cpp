@@ -53,18 +53,25 @@ bool ApplyQuad(GlueContext& ctx) {
   if (!p.useMFitmap && p.targetPatches == 0)
     return ctx.Fail("without the M-fitmap test a target patch count is needed (it would collapse everything)");
 
-  // The layer as triangles; a quad layer (faux edges) is simplified as quads.
+  // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(in.cm);
+  if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
+  for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
+  for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);
+  const vcgext::TriData& tri = w.mesh;
   int faux = 0;
   for (const auto& f : in.cm.face)
     if (!f.IsD())
       for (int k = 0; k < 3; ++k) faux += f.IsF(k) ? 1 : 0;
-  vcgext::TriData tri;
-  vcgext::ImportReport rep = vcgext::ImportTriangles(in.cm, tri, /*allowPolygonal=*/faux > 0);
-  if (!rep.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + rep.error);
   vcgext::QuadData given;
+  bool useQuads = false;
   if (faux > 0) {
     std::string err = vcgext::ImportQuads(in.cm, given);
-    if (!err.empty()) return ctx.Fail("Fitmap Quad Simplification: the layer has polygons but " + err);
+    useQuads = err.empty() && vcgext::RemapQuadsToWorkingCopy(w, given.F);
+    ctx.log(useQuads ? "Fitmap Quad Simplification: the layer is pure quads: simplifying its quads"
+                     : "Fitmap Quad Simplification: the layer's polygons are not usable as quads (" +
+                           (err.empty() ? std::string("repaired on the working copy") : err) +
+                           "): simplifying its triangles");
   }
   vcgext::EmbreeScene scene(tri);
   if (!scene.Ok()) return ctx.Fail(scene.Error());
@@ -78,8 +85,10 @@ bool ApplyQuad(GlueContext& ctx) {
                     vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hM) &&
                     std::abs(GetFitmapTau(in.cm) - tau) < 1e-6;
   if (have) {
+    std::vector<double> liveS, liveM;
     for (auto& v : in.cm.vert)
-      if (!v.IsD()) { S.push_back(hS[v]); M.push_back(hM[v]); }
+      if (!v.IsD()) { liveS.push_back(hS[v]); liveM.push_back(hM[v]); }
+    for (int live : w.meshToLive) { S.push_back(liveS[live]); M.push_back(liveM[live]); }
     ctx.log("Fitmap Quad Simplification: using the layer's Fitmaps (tau = " + std::to_string(tau) + "%)");
   } else {
     vcgext::FitmapParams fp;
@@ -94,7 +103,7 @@ bool ApplyQuad(GlueContext& ctx) {
   }
 
   vcgext::QuadSimplifyResult r =
-      vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, faux > 0 ? &given.F : nullptr);
+      vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr);
   if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
 
   char name[128];

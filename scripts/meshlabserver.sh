@@ -7,4 +7,7 @@ trap 'rm -rf "$scratch"' EXIT
 mkdir -p "$scratch/config" "$scratch/cache" "$scratch/run"
 chmod 700 "$scratch/run"
 export XDG_CONFIG_HOME="$scratch/config" XDG_CACHE_HOME="$scratch/cache" XDG_RUNTIME_DIR="$scratch/run"
-exec xvfb-run -a -s "-screen 0 1280x1024x24" meshlabserver "$@"
+# no exec: the EXIT trap must run after meshlabserver to remove the scratch folder
+status=0
+xvfb-run -a -s "-screen 0 1280x1024x24" meshlabserver "$@" || status=$?
+exit "$status"

@@ -469,13 +469,47 @@ TEST(Fitmaps, VcgEntryRejectsBadLayersUntouched) {
     EXPECT_TRUE(noAttr(m));
     EXPECT_EQ(m.vert[5].P(), p5);
   }
-  {  // polygonal faces (faux edges)
+  {  // faces referring past the vertex array (what a corrupt file leaves): error, no attribute
     TriData d = testsupport::PlaneGrid(3, 3);
+    vcgext::TMesh m;
+    testsupport::ToVcg(d, m);
+    m.face[3].V(1) = &m.vert[0] + 32600;  // never dereferenced: the bridge checks the range first
+    EXPECT_NE(vcgext::ComputeFitmaps(m, FitmapParams()).error.find("do not exist"), std::string::npos);
+    EXPECT_TRUE(noAttr(m));
+  }
+}
+
+TEST(Fitmaps, VcgEntryRunsOnPolygonalLayersAndWorkingCopies) {
+  // issue 16: faux edges are flags (the triangles are used); duplicates, unreferenced vertices
+  // and flipped faces are handled on a working copy, with the same values as the clean mesh.
+  TriData d = testsupport::Icosphere(2);
+  vcgext::TMesh clean;
+  testsupport::ToVcg(d, clean);
+  ASSERT_EQ(vcgext::ComputeFitmaps(clean, FitmapParams()).error, "");
+  auto hc = vcg::tri::Allocator<vcgext::TMesh>::FindPerVertexAttribute<float>(clean, vcgext::kFitmapSAttr);
+  {
     vcgext::TMesh m;
     testsupport::ToVcg(d, m);
     m.face[0].SetF(1);
     m.face[1].SetF(0);
-    EXPECT_NE(vcgext::ComputeFitmaps(m, FitmapParams()).error, "");
-    EXPECT_TRUE(noAttr(m));
+    vcgext::FitmapResult r = vcgext::ComputeFitmaps(m, FitmapParams());
+    ASSERT_EQ(r.error, "");
+    auto h = vcg::tri::Allocator<vcgext::TMesh>::FindPerVertexAttribute<float>(m, vcgext::kFitmapSAttr);
+    for (size_t i = 0; i < d.V.size(); ++i) EXPECT_EQ(h[i], hc[i]) << i;
+  }
+  {  // every third face flipped, 20 stray vertices far away, each face listed twice
+    TriData bad = d;
+    for (size_t f = 0; f < bad.F.size(); f += 3) std::swap(bad.F[f][1], bad.F[f][2]);
+    for (int i = 0; i < 20; ++i) bad.V.push_back(vcgext::Vec3(50 + i, 0, 0));
+    const size_t nf = bad.F.size();
+    for (size_t f = 0; f < nf; ++f) bad.F.push_back(bad.F[f]);
+    vcgext::TMesh m;
+    testsupport::ToVcg(bad, m);
+    vcgext::FitmapResult r = vcgext::ComputeFitmaps(m, FitmapParams());
+    ASSERT_EQ(r.error, "");
+    EXPECT_EQ(r.notes.size(), 3u);  // repeated faces, unreferenced vertices, re-oriented faces
+    auto h = vcg::tri::Allocator<vcgext::TMesh>::FindPerVertexAttribute<float>(m, vcgext::kFitmapSAttr);
+    for (size_t i = 0; i < d.V.size(); ++i) EXPECT_NEAR(h[i], hc[i], 1e-4 * std::abs(hc[i]) + 1e-6) << i;
+    for (size_t i = d.V.size(); i < bad.V.size(); ++i) EXPECT_EQ(h[i], 0.f);
   }
 }

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -68,10 +69,12 @@ struct ImportReport {
 
 /// Copies the live vertices and faces of a vcg triangle mesh into `out`.
 /// Errors (nothing written to `out` is meaningful then): empty layer, point cloud (no faces),
-/// polygonal faces (faux edges, when `allowPolygonal` is false), non-finite coordinates.
-/// Faces with a repeated vertex index are dropped and counted.
+/// polygonal faces (faux edges, when `allowPolygonal` is false), non-finite coordinates, faces
+/// whose vertex references lie outside the layer's vertices or on deleted ones (a corrupt file).
+/// Faces with a repeated vertex index are dropped and counted (kept with `keepDegenerate`).
 template <class MeshType>
-ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygonal = false) {
+ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygonal = false,
+                             bool keepDegenerate = false) {
   ImportReport rep;
   out.V.clear();
   out.F.clear();
@@ -89,17 +92,32 @@ ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygona
     out.V.push_back(q);
   }
   if (out.V.empty()) { rep.error = "the layer is empty (no vertices)"; return rep; }
-  int faux = 0, live = 0;
+  int faux = 0, live = 0, badRef = 0;
   std::vector<char> used(out.V.size(), 0);
+  const auto* v0 = m.vert.empty() ? nullptr : &m.vert[0];
   for (const auto& f : m.face) {
     if (f.IsD()) { ++rep.deletedSkipped; continue; }
     ++live;
     for (int k = 0; k < 3; ++k) if (f.IsF(k)) ++faux;
     Tri t;
-    for (int k = 0; k < 3; ++k) t[k] = remap[f.cV(k) - &m.vert[0]];
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { ++rep.degenerateFaces; continue; }
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      const auto d = f.cV(k) - v0;  // a corrupt file can leave references outside the vertices
+      t[k] = d >= 0 && d < std::ptrdiff_t(remap.size()) ? remap[size_t(d)] : -1;
+      ok = ok && t[k] >= 0;
+    }
+    if (!ok) { ++badRef; continue; }
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      ++rep.degenerateFaces;
+      if (!keepDegenerate) continue;
+    }
     for (int k = 0; k < 3; ++k) used[t[k]] = 1;
     out.F.push_back(t);
+  }
+  if (badRef > 0) {
+    rep.error = std::to_string(badRef) + " faces refer to vertices that do not exist (a corrupt or truncated "
+                "file: face indices beyond the " + std::to_string(out.V.size()) + " vertices)";
+    return rep;
   }
   if (live == 0) {
     rep.error = "the layer is a point cloud (" + std::to_string(out.V.size()) +

@@ -12,6 +12,7 @@
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/core/input_prep.h"
 
 namespace vcgext {
 
@@ -89,6 +90,8 @@ struct FitmapResult {
   std::vector<int> radiusLevel;  ///< Fast mode: hierarchy level each radius is evaluated on
   double seconds = 0;         ///< wall time
   double secondsLevels = 0, secondsCoarse = 0;  ///< Fast mode: wall time at the end of these stages
+  /// vcg entry point: repairs made on the working copy, and warnings (see input_prep.h)
+  std::vector<std::string> notes, warnings;
 };
 
 /// Computes both Fitmaps of `m` (paper §3.1.2–3.1.3). `scene` must be built on `m`.
@@ -109,26 +112,30 @@ FitmapResult ComputeFitmaps(const TriData& m, const EmbreeScene& scene, const Fi
 inline const char* kFitmapSAttr = "FitmapS";
 inline const char* kFitmapMAttr = "FitmapM";
 
-/// vcg entry point: validates the layer (see ImportTriangles), computes the Fitmaps and stores
-/// them in the per-vertex float attributes FitmapS / FitmapM (created if missing). On error the
-/// mesh is untouched and `result.error` says why.
+/// vcg entry point: computes the Fitmaps on the layer's working copy (input_prep.h: polygonal
+/// layers as triangles, duplicates merged, re-oriented; non-manifold or non-orientable input is
+/// an error) and stores them in the per-vertex float attributes FitmapS / FitmapM (created if
+/// missing); vertices in no face get 0. On error the mesh is untouched and `result.error` says
+/// why. `result.S` / `result.M` are indexed like the working copy.
 template <class MeshType>
 FitmapResult ComputeFitmaps(MeshType& m, const FitmapParams& p, vcg::CallBackPos* cb = nullptr) {
-  TriData data;
-  ImportReport rep = ImportTriangles(m, data);
+  WorkingCopy w = PrepareWorkingCopy(m);
   FitmapResult res;
-  if (!rep.error.empty()) { res.error = rep.error; return res; }
-  EmbreeScene scene(data);
+  if (!w.error.empty()) { res.error = w.error; return res; }
+  EmbreeScene scene(w.mesh);
   if (!scene.Ok()) { res.error = scene.Error(); return res; }
-  res = ComputeFitmaps(data, scene, p, cb);
+  res = ComputeFitmaps(w.mesh, scene, p, cb);
   if (!res.error.empty()) return res;
+  res.notes = w.notes;
+  res.warnings = w.warnings;
+  const std::vector<double> S = ToLiveVertices(w, res.S, 0.0), M = ToLiveVertices(w, res.M, 0.0);
   auto hS = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(m, kFitmapSAttr);
   auto hM = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(m, kFitmapMAttr);
   size_t i = 0;
   for (auto& v : m.vert) {
     if (v.IsD()) continue;
-    hS[v] = float(res.S[i]);
-    hM[v] = float(res.M[i]);
+    hS[v] = float(S[i]);
+    hM[v] = float(M[i]);
     ++i;
   }
   return res;

@@ -11,6 +11,7 @@
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/loop/loop_surface.h"
 #include "vcg_ext/loop/loop_tools.h"
 
@@ -25,7 +26,31 @@ struct LoopVcgReport {
   std::vector<double> distances; ///< snap: per moved vertex
   double maxDistance = 0, meanDistance = 0;
   int snapNotConverged = 0;
+  std::vector<std::string> notes, warnings;  ///< repairs of the working copy (input_prep.h)
 };
+
+/// The working copy of a control-net layer (input_prep.h), its notes kept in `rep`.
+template <class MeshType>
+bool LoopWorkingCopy(const MeshType& m, WorkingCopy& w, LoopVcgReport& rep) {
+  w = PrepareWorkingCopy(m);
+  rep.error = w.error;
+  rep.notes = w.notes;
+  rep.warnings = w.warnings;
+  return w.error.empty();
+}
+
+/// `sp` with its extra hard edges (given on the layer's live vertices) moved onto the working
+/// copy's vertices; edges at vertices the working copy left out are dropped.
+inline LoopSurfaceParams OnWorkingCopy(const LoopSurfaceParams& sp, const WorkingCopy& w) {
+  LoopSurfaceParams p = sp;
+  p.extraHardEdges.clear();
+  for (const auto& [a, b] : sp.extraHardEdges) {
+    const int n = int(w.liveToMesh.size());
+    if (a < 0 || b < 0 || a >= n || b >= n || w.liveToMesh[a] < 0 || w.liveToMesh[b] < 0) continue;
+    p.extraHardEdges.push_back({w.liveToMesh[a], w.liveToMesh[b]});
+  }
+  return p;
+}
 
 /// Refine Surface: builds the Loop surface of `in` (optionally made interpolating, §3.3) and
 /// writes the refined triangulation (§4) into `out` (cleared first). Per-vertex float
@@ -34,16 +59,16 @@ template <class MeshType>
 LoopVcgReport LoopRefineMesh(const MeshType& in, MeshType& out, const LoopSurfaceParams& sp, bool interpolate,
                              const LoopRefineParams& rp, vcg::CallBackPos* cb = nullptr) {
   LoopVcgReport rep;
-  TriData d;
-  ImportReport ir = ImportTriangles(in, d);
-  if (!ir.error.empty()) { rep.error = ir.error; return rep; }
-  LoopSurfaceParams p = sp;
+  WorkingCopy w;
+  if (!LoopWorkingCopy(in, w, rep)) return rep;
+  TriData& d = w.mesh;
+  LoopSurfaceParams p = OnWorkingCopy(sp, w);
   if (interpolate) {
     LoopInterpolateParams ip;
-    ip.surface = sp;
+    ip.surface = p;
     rep.interp = InterpolateLoopNet(d, ip);
     if (!rep.interp.error.empty()) { rep.error = rep.interp.error; return rep; }
-    LoopSurface s0(d, sp);
+    LoopSurface s0(d, p);
     p.creaseAngleDeg = 0;
     p.extraHardEdges = HardEdgeList(s0);
     d.V = rep.interp.X;
@@ -79,10 +104,10 @@ LoopVcgReport LoopRefineMesh(const MeshType& in, MeshType& out, const LoopSurfac
 template <class MeshType>
 LoopVcgReport LoopSnapVertices(MeshType& points, const MeshType& netMesh, const LoopSurfaceParams& sp) {
   LoopVcgReport rep;
-  TriData d;
-  ImportReport ir = ImportTriangles(netMesh, d);
-  if (!ir.error.empty()) { rep.error = ir.error; return rep; }
-  LoopSurface s(d, sp);
+  WorkingCopy w;
+  if (!LoopWorkingCopy(netMesh, w, rep)) return rep;
+  const TriData& d = w.mesh;
+  LoopSurface s(d, OnWorkingCopy(sp, w));
   if (!s.Ok()) { rep.error = s.Error(); return rep; }
   EmbreeScene scene(d);
   if (!scene.Ok()) { rep.error = scene.Error(); return rep; }
@@ -114,14 +139,14 @@ LoopVcgReport LoopSnapVertices(MeshType& points, const MeshType& netMesh, const 
 template <class MeshType>
 LoopVcgReport LoopCurvatureToQuality(MeshType& m, const LoopSurfaceParams& sp, LoopCurvatureKind kind) {
   LoopVcgReport rep;
-  TriData d;
-  ImportReport ir = ImportTriangles(m, d);
-  if (!ir.error.empty()) { rep.error = ir.error; return rep; }
-  LoopSurface s(d, sp);
+  WorkingCopy w;
+  if (!LoopWorkingCopy(m, w, rep)) return rep;
+  LoopSurface s(w.mesh, OnWorkingCopy(sp, w));
   if (!s.Ok()) { rep.error = s.Error(); return rep; }
   rep.hardEdges = s.NumHardEdges();
   rep.hardVertices = s.NumCornerVertices();
-  std::vector<double> k = LoopVertexCurvature(s, kind);
+  // vertices in no face have no limit point: 0
+  std::vector<double> k = ToLiveVertices(w, LoopVertexCurvature(s, kind), 0.0);
   size_t i = 0;
   for (auto& v : m.vert) {
     if (v.IsD()) continue;

@@ -30,6 +30,7 @@
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/quad/tri_to_quad.h"
 
 namespace vcgext {
@@ -198,9 +199,8 @@ template <class MeshType>
 QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& p, vcg::CallBackPos* cb,
                                    const char* sAttr, const char* mAttr) {
   QuadSimplifyResult res;
-  TriData data;
-  ImportReport rep = ImportTriangles(m, data, /*allowPolygonal=*/true);
-  if (!rep.error.empty()) { res.error = rep.error; return res; }
+  WorkingCopy w = PrepareWorkingCopy(m);
+  if (!w.error.empty()) { res.error = w.error; return res; }
   MeshType& mm = const_cast<MeshType&>(m);  // attribute lookup is non-const in vcglib; nothing is written
   auto hS = vcg::tri::Allocator<MeshType>::template FindPerVertexAttribute<float>(mm, sAttr);
   auto hM = vcg::tri::Allocator<MeshType>::template FindPerVertexAttribute<float>(mm, mAttr);
@@ -210,17 +210,21 @@ QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& 
                 "): compute the Fitmaps first";
     return res;
   }
-  std::vector<double> S, M;
+  std::vector<double> liveS, liveM;
   for (const auto& v : m.vert) {
     if (v.IsD()) continue;
-    S.push_back(double(hS[v]));
-    M.push_back(double(hM[v]));
+    liveS.push_back(double(hS[v]));
+    liveM.push_back(double(hM[v]));
   }
+  std::vector<double> S, M;
+  for (int live : w.meshToLive) { S.push_back(liveS[live]); M.push_back(liveM[live]); }
+  TriData raw;
+  ImportTriangles(m, raw, /*allowPolygonal=*/true);
   std::vector<Quad> quads;
-  bool polygonal = PolygonalQuads(m, data, quads);
-  EmbreeScene scene(data);
+  bool polygonal = PolygonalQuads(m, raw, quads) && RemapQuadsToWorkingCopy(w, quads);
+  EmbreeScene scene(w.mesh);
   if (!scene.Ok()) { res.error = scene.Error(); return res; }
-  return SimplifyToQuads(data, scene, S, M, p, cb, polygonal ? &quads : nullptr);
+  return SimplifyToQuads(w.mesh, scene, S, M, p, cb, polygonal ? &quads : nullptr);
 }
 
 }  // namespace vcgext

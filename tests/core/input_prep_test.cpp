@@ -1,0 +1,156 @@
+// The working copy every filter runs on (input_prep.h, issue 16): exact repairs, clear errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "test_support.h"
+#include "vcg_ext/core/input_prep.h"
+
+using vcgext::TriData;
+using vcgext::Vec3;
+using vcgext::WorkingCopy;
+
+namespace {
+// Every edge in two faces, traversed once each way (closed, consistently oriented).
+bool ClosedAndOriented(const TriData& t) {
+  std::multiset<std::pair<int, int>> he;
+  for (const auto& f : t.F)
+    for (int k = 0; k < 3; ++k) he.insert({f[k], f[(k + 1) % 3]});
+  for (const auto& [a, b] : he)
+    if (he.count({a, b}) != 1 || he.count({b, a}) != 1) return false;
+  return true;
+}
+double SignedVolume(const TriData& t) {
+  double v = 0;
+  for (const auto& f : t.F) v += t.V[f[0]].dot(t.V[f[1]].cross(t.V[f[2]])) / 6;
+  return v;
+}
+// A strip of n quads (2n triangles) closed into a loop, with a half twist if `mobius`.
+TriData Strip(int n, bool mobius) {
+  TriData t;
+  for (int i = 0; i < n; ++i) {
+    double a = 2 * M_PI * i / n, tw = mobius ? a / 2 : 0;
+    Vec3 c(3 * std::cos(a), 3 * std::sin(a), 0), r(std::cos(a), std::sin(a), 0);
+    Vec3 d = std::cos(tw) * r + std::sin(tw) * Vec3(0, 0, 1);
+    t.V.push_back(c - 0.5 * d);
+    t.V.push_back(c + 0.5 * d);
+  }
+  for (int i = 0; i < n; ++i) {
+    int a = 2 * i, b = 2 * i + 1, c = 2 * ((i + 1) % n), d = c + 1;
+    if (mobius && i == n - 1) std::swap(c, d);  // the half twist joins the sides crosswise
+    t.F.push_back({a, c, d});
+    t.F.push_back({a, d, b});
+  }
+  return t;
+}
+}  // namespace
+
+TEST(InputPrep, CleanMeshIsUnchanged) {
+  TriData s = testsupport::Icosphere(2);
+  WorkingCopy w = vcgext::PrepareWorkingCopy(s);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.mesh.V, s.V);
+  EXPECT_EQ(w.mesh.F, s.F);
+  EXPECT_TRUE(w.notes.empty());
+  EXPECT_TRUE(w.warnings.empty());
+  EXPECT_EQ(w.components, 1);
+}
+
+TEST(InputPrep, SoupIsWeldedToTheSameMesh) {
+  TriData s = testsupport::Icosphere(2), soup;
+  for (const auto& f : s.F) {
+    for (int k = 0; k < 3; ++k) soup.V.push_back(s.V[f[k]]);
+    int b = int(soup.V.size()) - 3;
+    soup.F.push_back({b, b + 1, b + 2});
+  }
+  WorkingCopy w = vcgext::PrepareWorkingCopy(soup);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.mesh.V.size(), s.V.size());
+  EXPECT_EQ(w.mergedVertices, int(soup.V.size() - s.V.size()));
+  EXPECT_TRUE(ClosedAndOriented(w.mesh));
+  for (size_t i = 0; i < soup.V.size(); ++i) EXPECT_EQ(w.mesh.V[w.liveToMesh[i]], soup.V[i]);
+  ASSERT_EQ(w.notes.size(), 1u);
+  EXPECT_NE(w.notes[0].find("merged"), std::string::npos);
+}
+
+TEST(InputPrep, InconsistentOrientationIsRepairedByMajority) {
+  TriData s = testsupport::Icosphere(2);
+  const double vol = SignedVolume(s);
+  TriData bad = s;
+  int flipped = 0;
+  for (size_t f = 0; f < bad.F.size(); f += 4, ++flipped) std::swap(bad.F[f][1], bad.F[f][2]);
+  WorkingCopy w = vcgext::PrepareWorkingCopy(bad);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.flippedFaces, flipped);
+  EXPECT_TRUE(ClosedAndOriented(w.mesh));
+  EXPECT_NEAR(SignedVolume(w.mesh), vol, 1e-12);  // the majority (outward) orientation kept
+}
+
+TEST(InputPrep, UnreferencedDegenerateAndRepeatedAreLeftOut) {
+  TriData s = testsupport::PlaneGrid(4, 4);
+  TriData bad = s;
+  bad.V.push_back(Vec3(100, 100, 100));         // stray vertex
+  bad.F.push_back({0, 0, 1});                   // degenerate
+  bad.F.push_back(s.F[3]);                      // repeated
+  bad.F.push_back({s.F[5][0], s.F[5][2], s.F[5][1]});  // repeated, other orientation
+  WorkingCopy w = vcgext::PrepareWorkingCopy(bad);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.unreferencedVertices, 1);
+  EXPECT_EQ(w.degenerateFaces, 1);
+  EXPECT_EQ(w.duplicateFaces, 2);
+  EXPECT_EQ(w.mesh.F.size(), s.F.size());
+  EXPECT_EQ(w.mesh.V.size(), s.V.size());
+  EXPECT_EQ(w.liveToMesh.back(), -1);
+  EXPECT_EQ(w.notes.size(), 3u);
+}
+
+TEST(InputPrep, MobiusStripIsAClearError) {
+  EXPECT_EQ(vcgext::PrepareWorkingCopy(Strip(12, false)).error, "");
+  WorkingCopy w = vcgext::PrepareWorkingCopy(Strip(12, true));
+  EXPECT_EQ(w.nonOrientableComponents, 1);
+  EXPECT_NE(w.error.find("not orientable"), std::string::npos) << w.error;
+}
+
+TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
+  TriData fin = testsupport::PlaneGrid(2, 1);  // 4 triangles; add a fin on the middle edge
+  fin.V.push_back(Vec3(0.5, 0.5, 1));
+  const int top = int(fin.V.size()) - 1;
+  // the shared interior diagonal or edge of the grid: find an edge used twice
+  std::multiset<std::pair<int, int>> e;
+  for (const auto& f : fin.F)
+    for (int k = 0; k < 3; ++k) e.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  std::pair<int, int> shared{-1, -1};
+  for (const auto& x : e)
+    if (e.count(x) == 2) { shared = x; break; }
+  ASSERT_GE(shared.first, 0);
+  fin.F.push_back({shared.first, shared.second, top});
+  WorkingCopy w = vcgext::PrepareWorkingCopy(fin);
+  EXPECT_EQ(w.nonManifoldEdges, 1);
+  EXPECT_NE(w.error.find("Repair non Manifold"), std::string::npos) << w.error;
+
+  TriData bowtie;  // two triangles touching at one vertex
+  bowtie.V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  bowtie.F = {{0, 1, 2}, {0, 3, 4}};
+  w = vcgext::PrepareWorkingCopy(bowtie);
+  EXPECT_EQ(w.nonManifoldEdges, 0);
+  EXPECT_EQ(w.nonManifoldVertices, 1);
+  EXPECT_NE(w.error.find("1 vertex joins"), std::string::npos) << w.error;
+}
+
+TEST(InputPrep, FarFromOriginWarnsAndAllDegenerateFails) {
+  TriData s = testsupport::Icosphere(1);
+  for (auto& p : s.V) p += Vec3(1e4, 0, 0);
+  WorkingCopy w = vcgext::PrepareWorkingCopy(s);
+  EXPECT_EQ(w.error, "");
+  ASSERT_EQ(w.warnings.size(), 1u);
+  EXPECT_NE(w.warnings[0].find("far from the origin"), std::string::npos);
+  TriData near = testsupport::Icosphere(1);
+  for (auto& p : near.V) p += Vec3(10, 0, 0);  // 5x its size: no warning
+  EXPECT_TRUE(vcgext::PrepareWorkingCopy(near).warnings.empty());
+  TriData flat;
+  flat.V = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}};
+  flat.F = {{0, 1, 2}};
+  EXPECT_NE(vcgext::PrepareWorkingCopy(flat).error.find("degenerate"), std::string::npos);
+}

@@ -1,0 +1,273 @@
+#include "vcg_ext/core/input_prep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+namespace vcgext {
+namespace {
+
+std::uint64_t EdgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+
+int Find(std::vector<int>& p, int x) {
+  while (p[x] != x) x = p[x] = p[p[x]];
+  return x;
+}
+
+// 1. exact duplicates: every vertex mapped to the first vertex with the same coordinates.
+std::vector<int> MergeExactDuplicates(const std::vector<Vec3>& V, int* merged) {
+  std::vector<int> order(V.size()), rep(V.size());
+  std::iota(order.begin(), order.end(), 0);
+  auto less = [&](int a, int b) {
+    for (int k = 0; k < 3; ++k)
+      if (V[a][k] != V[b][k]) return V[a][k] < V[b][k];
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  *merged = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const int v = order[i];
+    if (i > 0 && V[v] == V[order[i - 1]]) {
+      rep[v] = rep[order[i - 1]];
+      ++*merged;
+    } else {
+      rep[v] = v;
+    }
+  }
+  return rep;
+}
+
+// 2. degenerate and repeated faces dropped.
+std::vector<Tri> UniqueFaces(const std::vector<Tri>& F, const std::vector<int>& rep, WorkingCopy& w) {
+  std::vector<Tri> out;
+  out.reserve(F.size());
+  std::vector<std::pair<std::array<int, 3>, int>> sorted;
+  for (const Tri& f0 : F) {
+    Tri f{rep[f0[0]], rep[f0[1]], rep[f0[2]]};
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) { ++w.degenerateFaces; continue; }
+    std::array<int, 3> s = f;
+    std::sort(s.begin(), s.end());
+    sorted.push_back({s, int(out.size())});
+    out.push_back(f);
+  }
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<char> drop(out.size(), 0);
+  for (size_t i = 1; i < sorted.size(); ++i)
+    if (sorted[i].first == sorted[i - 1].first) { drop[sorted[i].second] = 1; ++w.duplicateFaces; }
+  std::vector<Tri> kept;
+  kept.reserve(out.size());
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!drop[i]) kept.push_back(out[i]);
+  return kept;
+}
+
+// Faces on each undirected edge (CSR by edge id) and the edge id of each face side.
+struct EdgeFaces {
+  std::vector<int> sideEdge;   // face * 3 + k -> edge id
+  std::vector<int> offs, idx;  // edge id -> face sides (face * 3 + k)
+};
+EdgeFaces BuildEdgeFaces(const std::vector<Tri>& F) {
+  EdgeFaces e;
+  std::unordered_map<std::uint64_t, int> id;
+  id.reserve(F.size() * 2);
+  e.sideEdge.resize(F.size() * 3);
+  for (size_t f = 0; f < F.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      auto it = id.emplace(EdgeKey(F[f][k], F[f][(k + 1) % 3]), int(id.size())).first;
+      e.sideEdge[f * 3 + k] = it->second;
+    }
+  e.offs.assign(id.size() + 1, 0);
+  for (int s : e.sideEdge) ++e.offs[s + 1];
+  std::partial_sum(e.offs.begin(), e.offs.end(), e.offs.begin());
+  e.idx.resize(e.sideEdge.size());
+  std::vector<int> fill(e.offs.begin(), e.offs.end() - 1);
+  for (size_t s = 0; s < e.sideEdge.size(); ++s) e.idx[fill[e.sideEdge[s]]++] = int(s);
+  return e;
+}
+
+// 3a. vertices whose incident faces form more than one fan (joined across manifold edges).
+int CountNonManifoldVertices(const std::vector<Tri>& F, const EdgeFaces& e, int nV) {
+  // faces sharing a manifold edge are in one fan at both its ends
+  std::vector<std::vector<int>> fansAt(nV);
+  for (size_t f = 0; f < F.size(); ++f)
+    for (int v : F[f]) fansAt[v].push_back(int(f));
+  std::vector<int> local;
+  int bad = 0;
+  for (int v = 0; v < nV; ++v) {
+    const auto& fs = fansAt[v];
+    if (fs.size() < 2) continue;
+    local.assign(fs.size(), 0);
+    std::iota(local.begin(), local.end(), 0);
+    auto slot = [&](int f) { return int(std::find(fs.begin(), fs.end(), f) - fs.begin()); };
+    for (size_t i = 0; i < fs.size(); ++i) {
+      const int f = fs[i];
+      for (int k = 0; k < 3; ++k) {
+        if (F[f][k] != v && F[f][(k + 1) % 3] != v) continue;
+        const int eid = e.sideEdge[f * 3 + k];
+        if (e.offs[eid + 1] - e.offs[eid] != 2) continue;
+        for (int j = e.offs[eid]; j < e.offs[eid + 1]; ++j) {
+          const int g = e.idx[j] / 3;
+          if (g != f) local[Find(local, slot(g))] = Find(local, int(i));
+        }
+      }
+    }
+    int roots = 0;
+    for (size_t i = 0; i < fs.size(); ++i) roots += Find(local, int(i)) == int(i);
+    bad += roots > 1;
+  }
+  return bad;
+}
+
+// 4. coherent orientation per component (breadth-first over manifold edges); returns the number
+// of flipped faces, counts non-orientable components.
+int OrientComponents(std::vector<Tri>& F, const EdgeFaces& e, int* components, int* nonOrientable) {
+  const int nf = int(F.size());
+  std::vector<int> comp(nf, -1);
+  std::vector<char> flip(nf, 0);
+  *components = 0;
+  *nonOrientable = 0;
+  int flipped = 0;
+  std::vector<int> queue;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (comp[seed] >= 0) continue;
+    const int c = (*components)++;
+    comp[seed] = c;
+    queue.assign(1, seed);
+    bool orientable = true;
+    for (size_t qi = 0; qi < queue.size(); ++qi) {
+      const int f = queue[qi];
+      for (int k = 0; k < 3; ++k) {
+        const int eid = e.sideEdge[f * 3 + k];
+        if (e.offs[eid + 1] - e.offs[eid] != 2) continue;
+        const int s0 = e.idx[e.offs[eid]], s1 = e.idx[e.offs[eid] + 1];
+        const int g = (s0 / 3 == f) ? s1 / 3 : s0 / 3, sg = (s0 / 3 == f) ? s1 : s0;
+        // same direction along the shared edge means opposite orientations
+        const bool same = F[f][k] == F[g][sg % 3];
+        const char want = char(flip[f] ^ (same ? 1 : 0));
+        if (comp[g] < 0) {
+          comp[g] = c;
+          flip[g] = want;
+          queue.push_back(g);
+        } else if (flip[g] != want) {
+          orientable = false;
+        }
+      }
+    }
+    if (!orientable) { ++*nonOrientable; continue; }
+    int n = 0;
+    for (int f : queue) n += flip[f];
+    const bool invert = 2 * n > int(queue.size());  // keep the majority's orientation
+    for (int f : queue)
+      if (flip[f] != invert) { std::swap(F[f][1], F[f][2]); ++flipped; }
+  }
+  return flipped;
+}
+
+std::string Plural(int n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+void PrecisionWarning(const std::vector<Vec3>& V, WorkingCopy& w) {
+  double far = 0;
+  for (const auto& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
+  const double diag = BBoxDiagonal(V);
+  const double quantum = far * std::ldexp(1.0, -23);  // single-precision spacing at |x| = far
+  if (!(diag > 0) || quantum <= 1e-5 * diag) return;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "coordinates are far from the origin (up to %.3g, %.3g times the model's size): MeshLab stores "
+                "single-precision floats, so positions are rounded to steps of %.3g (%.2g %% of the bounding-box "
+                "diagonal); move the model to the origin first (Filters > Normals, Curvatures and Orientation > "
+                "Transform: Translate, Center, set Origin)",
+                far, far / diag, quantum, 100 * quantum / diag);
+  w.warnings.push_back(buf);
+}
+
+}  // namespace
+
+WorkingCopy PrepareWorkingCopy(const TriData& raw) {
+  WorkingCopy w;
+  const int n = int(raw.V.size());
+  PrecisionWarning(raw.V, w);
+  std::vector<int> rep = MergeExactDuplicates(raw.V, &w.mergedVertices);
+  std::vector<Tri> F = UniqueFaces(raw.F, rep, w);
+  if (F.empty()) {
+    w.error = "all " + Plural(int(raw.F.size()), "face is", "faces are") +
+              " degenerate (zero length edges: each repeats a vertex" +
+              std::string(w.mergedVertices ? " once coincident vertices are merged" : "") + ")";
+    if (!w.warnings.empty()) w.error += "; " + w.warnings.front();
+    return w;
+  }
+  EdgeFaces e = BuildEdgeFaces(F);
+  for (size_t id = 0; id + 1 < e.offs.size(); ++id) w.nonManifoldEdges += e.offs[id + 1] - e.offs[id] > 2;
+  w.nonManifoldVertices = CountNonManifoldVertices(F, e, n);
+  if (w.nonManifoldEdges || w.nonManifoldVertices) {
+    w.error = "the mesh is not manifold: " + Plural(w.nonManifoldEdges, "edge is", "edges are") +
+              " shared by more than two triangles and " +
+              Plural(w.nonManifoldVertices, "vertex joins", "vertices join") +
+              " separate pieces of surface; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
+              "Edges and Repair non Manifold Vertices, then run this filter again";
+    return w;
+  }
+  w.flippedFaces = OrientComponents(F, e, &w.components, &w.nonOrientableComponents);
+  if (w.nonOrientableComponents) {
+    w.error = "the surface is not orientable (" + Plural(w.nonOrientableComponents, "component", "components") +
+              " like a Möbius strip: no consistent inside and outside), so it has no consistent normals; "
+              "a subdivision surface cannot follow it";
+    return w;
+  }
+  // 5. compact: referenced vertices only, in the layer's order
+  std::vector<int> newIndex(n, -1);
+  for (const Tri& f : F)
+    for (int v : f) newIndex[v] = 0;
+  for (int v = 0; v < n; ++v)
+    if (newIndex[v] == 0) {
+      newIndex[v] = int(w.mesh.V.size());
+      w.mesh.V.push_back(raw.V[v]);
+      w.meshToLive.push_back(v);
+    }
+  w.mesh.F.reserve(F.size());
+  for (const Tri& f : F) w.mesh.F.push_back({newIndex[f[0]], newIndex[f[1]], newIndex[f[2]]});
+  w.liveToMesh.resize(n);
+  for (int v = 0; v < n; ++v) {
+    w.liveToMesh[v] = newIndex[rep[v]];
+    w.unreferencedVertices += w.liveToMesh[v] < 0;
+  }
+  if (w.mergedVertices)
+    w.notes.push_back("merged " + Plural(w.mergedVertices, "duplicate vertex", "duplicate vertices") +
+                      " (same coordinates: an unwelded mesh or STL soup)");
+  if (w.degenerateFaces)
+    w.notes.push_back("ignored " + Plural(w.degenerateFaces, "degenerate face", "degenerate faces") +
+                      " (a repeated vertex)");
+  if (w.duplicateFaces) w.notes.push_back("ignored " + Plural(w.duplicateFaces, "repeated face", "repeated faces"));
+  if (w.unreferencedVertices)
+    w.notes.push_back("ignored " + Plural(w.unreferencedVertices, "unreferenced vertex", "unreferenced vertices") +
+                      " (in no face)");
+  if (w.flippedFaces)
+    w.notes.push_back("re-oriented " + Plural(w.flippedFaces, "face", "faces") +
+                      " so that every component is consistently oriented");
+  return w;
+}
+
+bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads) {
+  if (w.flippedFaces > 0) return false;
+  for (Quad& q : quads) {
+    for (int& v : q) {
+      if (v < 0 || v >= int(w.liveToMesh.size()) || w.liveToMesh[v] < 0) return false;
+      v = w.liveToMesh[v];
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        if (q[a] == q[b]) return false;
+  }
+  return true;
+}
+
+}  // namespace vcgext

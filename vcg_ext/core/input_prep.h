@@ -1,0 +1,81 @@
+#pragma once
+/// \file input_prep.h
+/// The private working copy every filter runs on (issue 16: "every input a user can load"):
+/// the layer's triangles cleaned so that the algorithms see a manifold, consistently oriented
+/// mesh without stray elements, with a map back to the layer's vertices for per-vertex results.
+/// The layer itself is never modified.
+///
+/// Steps, in order (each counted, and named in `notes` when it changed something):
+///  1. exact duplicate vertices (bitwise-equal coordinates, what STL soups and unwelded exports
+///     hold) are merged;
+///  2. faces that repeat a vertex after merging (degenerate) and repeated faces (same three
+///     vertices, either orientation) are dropped;
+///  3. edges in more than two triangles, and vertices where separate sheets touch, are counted:
+///     an error names them and MeshLab's repair filters (the same in every filter);
+///  4. each connected component is oriented coherently, keeping the orientation of the majority
+///     of its faces; a non-orientable component (a Möbius strip) is an error;
+///  5. unreferenced vertices are left out (they get no value: -1 in `liveToMesh`).
+/// A warning names the precision loss when coordinates are far from the origin relative to the
+/// model's size (MeshLab 2020.09 stores single-precision floats).
+///
+/// Decision (docs/robustness.md): these steps run on index arrays rather than through vcglib's
+/// tri::Clean on a copy of the layer, because the filters must write per-vertex results back to
+/// the layer's own vertices, and tri::Clean's merges and compactions do not report which vertex
+/// went where. Every step is exact (no tolerance) and tested against hand-made cases.
+#include <string>
+#include <vector>
+
+#include "vcg_ext/core/indexed_mesh.h"
+
+namespace vcgext {
+
+struct WorkingCopy {
+  std::string error;                  ///< non-empty: the input cannot be used (says why)
+  TriData mesh;                       ///< referenced vertices only, manifold, oriented
+  std::vector<int> liveToMesh;        ///< per live layer vertex: its vertex in `mesh`, or -1
+  std::vector<int> meshToLive;        ///< per mesh vertex: one live layer vertex mapped to it
+  int mergedVertices = 0;             ///< duplicates merged into another vertex
+  int unreferencedVertices = 0;       ///< live vertices in no face (after dropping faces)
+  int degenerateFaces = 0;            ///< faces repeating a vertex (in the layer or after merging)
+  int duplicateFaces = 0;             ///< repeated faces dropped
+  int flippedFaces = 0;               ///< faces re-oriented
+  int components = 0;
+  int nonManifoldEdges = 0, nonManifoldVertices = 0, nonOrientableComponents = 0;
+  std::vector<std::string> notes;     ///< what was repaired, one line each (for the log)
+  std::vector<std::string> warnings;  ///< what the user should know (precision)
+};
+
+/// Builds the working copy from `raw` (the layer's live vertices in order and its faces, as
+/// ImportTriangles gives them; faces may repeat vertices). Cost O(F log F).
+WorkingCopy PrepareWorkingCopy(const TriData& raw);
+
+/// Per-live-vertex values from per-mesh-vertex ones (`fill` where a vertex has none).
+template <class T>
+std::vector<T> ToLiveVertices(const WorkingCopy& w, const std::vector<T>& perMeshVertex, T fill) {
+  std::vector<T> out(w.liveToMesh.size(), fill);
+  for (size_t i = 0; i < out.size(); ++i)
+    if (w.liveToMesh[i] >= 0) out[i] = perMeshVertex[w.liveToMesh[i]];
+  return out;
+}
+
+/// Re-indexes quads given on the layer's live vertices (a polygonal layer's quads) onto the
+/// working copy. False (quads unusable: use the working copy's triangles) if a corner has no
+/// working vertex, a quad repeats a vertex after merging, or faces were re-oriented.
+bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads);
+
+/// Reads a vcg layer (polygonal layers as their triangles: faux edges are only flags) and
+/// prepares its working copy. Errors of ImportTriangles (empty, point cloud, NaN/Inf, face
+/// indices out of range) come through `error`.
+template <class MeshType>
+WorkingCopy PrepareWorkingCopy(const MeshType& m) {
+  TriData raw;
+  ImportReport rep = ImportTriangles(m, raw, /*allowPolygonal=*/true, /*keepDegenerate=*/true);
+  if (!rep.error.empty()) {
+    WorkingCopy w;
+    w.error = rep.error;
+    return w;
+  }
+  return PrepareWorkingCopy(raw);
+}
+
+}  // namespace vcgext
