@@ -37,6 +37,7 @@ inline const char* kUseMFitmap = "useMFitmap";            ///< bool
 inline const char* kEdgeSwaps = "edgeSwaps";              ///< bool
 inline const char* kGuard = "thinPartGuard";              ///< float, fraction of F_M (0 = off)
 inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)
+inline const char* kWorkingFaces = "workingFaces";        ///< int, triangles of M' (0 = the full input)
 // Fit Catmull-Clark Surface and Bake Displacement
 inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)
 inline const char* kLimitSegments = "limitSegments";      ///< int, N per patch side

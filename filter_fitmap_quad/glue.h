@@ -32,6 +32,13 @@ using StageTimes = std::vector<std::pair<std::string, double>>;
 StageTimes GetStageTimes(CMeshO& m);
 void SetStageTimes(CMeshO& m, const StageTimes& t);
 
+/// Default working resolutions (docs/multires.md "The rule"), in triangles: "Compute Fitmaps"
+/// runs on M'_F (the paper's §4 size, about 100K triangles; bunny00's 75k stays as it is), and
+/// "Fitmap Quad Simplification" starts from M'_S, decimated from M'_F (one decimation of a dense
+/// input serves both filters).
+constexpr int kDefaultFitmapsWorkingFaces = 100000;
+constexpr int kDefaultWorkingFaces = 40000;
+
 // Compute Fitmaps (glue_fitmaps.cpp)
 void InitFitmapsParams(MeshDocument& md, RichParameterList& par);
 bool ApplyFitmaps(GlueContext& ctx);

@@ -25,6 +25,11 @@ void InitFitmapsParams(MeshDocument& /*md*/, RichParameterList& par) {
                         "Channel shown", "Which Fitmap is copied to the vertex quality."));
   par.addParam(RichBool(param::kColorize, true, "Colorize",
                         "Colour vertices by the shown channel (quality ramp, 1-99 percentiles)."));
+  par.addParam(RichInt(param::kWorkingFaces, kDefaultFitmapsWorkingFaces, "Working resolution (triangles, 0 = full)",
+                       "Bounded cost on dense scans (paper §4): a layer with more triangles is "
+                       "decimated to this many (vcglib's quadric edge collapse), the Fitmaps are "
+                       "computed there and interpolated to every vertex of the layer. 0 computes "
+                       "them at every vertex. Fast mode only."));
   par.addParam(RichEnum(param::kMode, 0, QStringList() << "Fast" << "Reference (slow, literal paper)",
                         "Computation mode",
                         "Fast: bounded work per vertex. Reference: the paper's literal O(n·|B|) "
@@ -37,6 +42,8 @@ bool ApplyFitmaps(GlueContext& ctx) {
   p.tauPercent = ctx.par.getFloat(param::kTau);
   p.numRadii = ctx.par.getInt(param::kNumRadii);
   p.maxRadiusPercent = ctx.par.getFloat(param::kMaxRadiusPerc);
+  p.workingFaces = ctx.par.getInt(param::kWorkingFaces);
+  if (p.workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   p.mode = ctx.par.getEnum(param::kMode) == 1 ? vcgext::FitmapParams::Mode::Reference
                                                : vcgext::FitmapParams::Mode::Fast;
   if (!(p.tauPercent >= 0 && p.tauPercent <= 100)) return ctx.Fail("tau must be in [0, 100] percent");
@@ -61,6 +68,10 @@ bool ApplyFitmaps(GlueContext& ctx) {
     mm.updateDataMask(MeshModel::MM_VERTCOLOR);
     range = vcgext::ColorizeQuality(mm.cm);
   }
+  if (r.workingFaces > 0)
+    ctx.log("Compute Fitmaps: computed at the working resolution (" + std::to_string(r.workingFaces) +
+            " triangles; decimation " + std::to_string(r.secondsDecimate) + " s) and interpolated to the " +
+            std::to_string(mm.cm.vn) + " vertices (" + std::to_string(r.secondsTransfer) + " s)");
   char buf[512];
   snprintf(buf, sizeof buf,
            "Compute Fitmaps (%s mode): %d vertices in %.2f s; radii %.4g..%.4g; showing %s "

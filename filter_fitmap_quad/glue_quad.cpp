@@ -8,6 +8,7 @@
 
 #include "filter_table.h"
 #include "glue.h"
+#include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fitmaps/fitmaps.h"
 #include "vcg_ext/quad/quad_simplify.h"
@@ -33,6 +34,11 @@ void InitQuadParams(MeshDocument& /*md*/, RichParameterList& par) {
                          "centres and edge midpoints) ends farther from the input than this fraction "
                          "of the M-fitmap. Keeps thin parts (legs, ears) apart; 0 = the paper's "
                          "behaviour (fewer patches, faster, may merge thin parts)."));
+  par.addParam(RichInt(param::kWorkingFaces, kDefaultWorkingFaces, "Working resolution (triangles, 0 = full)",
+                       "Paper §4 (large meshes): the control mesh starts from the input decimated to "
+                       "this many triangles (vcglib's quadric edge collapse, topology and boundary "
+                       "kept) when the input has more; projections, Fitmaps and every error still "
+                       "refer to the full input. 0 starts from the full input."));
   par.addParam(RichBool(param::kValidate, d.validateEveryOperation, "Validate every operation (slow)",
                         "Test mode: full mesh validity check after every local operation."));
 }
@@ -47,6 +53,8 @@ bool ApplyQuad(GlueContext& ctx) {
   p.edgeSwaps = ctx.par.getBool(param::kEdgeSwaps);
   p.validateEveryOperation = ctx.par.getBool(param::kValidate);
   p.deviationFactor = ctx.par.getFloat(param::kGuard);
+  const int workingFaces = ctx.par.getInt(param::kWorkingFaces);
+  if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
   if (!(tau >= 0 && tau <= 100)) return ctx.Fail("tau must be in [0, 100] percent");
   if (p.targetPatches < 0) return ctx.Fail("target patches must be >= 0");
@@ -93,6 +101,7 @@ bool ApplyQuad(GlueContext& ctx) {
   } else {
     vcgext::FitmapParams fp;
     fp.tauPercent = tau;
+    fp.workingFaces = kDefaultFitmapsWorkingFaces;
     vcgext::FitmapResult fr = vcgext::ComputeFitmaps(tri, scene, fp, ctx.cb);
     if (!fr.error.empty()) return ctx.Fail("Fitmap Quad Simplification: Fitmaps: " + fr.error);
     S = fr.S;
@@ -102,8 +111,24 @@ bool ApplyQuad(GlueContext& ctx) {
             std::to_string(fr.seconds) + " s");
   }
 
-  vcgext::QuadSimplifyResult r =
-      vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr);
+  // Working resolution M' (§4): the control mesh starts from a decimated copy of a dense input.
+  // Through the Fitmaps' M'_F first: the decimation "Compute Fitmaps" made of this layer is
+  // reused (decimate.h keeps its recent results), and M'_S costs a small second one.
+  vcgext::WorkingResolutionParams wf, wp;
+  wf.maxFaces = useQuads || workingFaces == 0 ? 0 : std::max(workingFaces, kDefaultFitmapsWorkingFaces);
+  wp.maxFaces = useQuads ? 0 : workingFaces;
+  vcgext::DecimateResult base = vcgext::WorkingResolution(tri, wf, ctx.cb);
+  vcgext::DecimateResult work = vcgext::WorkingResolution(base.mesh, wp, ctx.cb);
+  work.seconds += base.seconds;
+  work.decimated = work.decimated || base.decimated;
+  if (work.decimated) {
+    ctx.log("Fitmap Quad Simplification: working resolution " + std::to_string(work.mesh.F.size()) +
+            " triangles (the input has " + std::to_string(tri.F.size()) + "), decimated in " +
+            std::to_string(work.seconds) + " s; projections and errors refer to the full input");
+    times.push_back({"working_resolution", work.seconds});
+  }
+  vcgext::QuadSimplifyResult r = vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr,
+                                                         work.decimated ? &work.mesh : nullptr);
   if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
 
   char name[128];

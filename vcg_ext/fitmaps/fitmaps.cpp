@@ -1,6 +1,8 @@
 // S- and M-Fitmaps (Panozzo et al. 2011, §3.1.2–3.1.3). Design and decisions: docs/fitmaps.md.
 #include "vcg_ext/fitmaps/fitmaps.h"
 
+#include "vcg_ext/core/decimate.h"
+
 #include <omp.h>
 
 #include <Eigen/Eigenvalues>
@@ -465,6 +467,53 @@ double MFromPhi(const Context& ctx, const RadiusValues& rv) {
 
 }  // namespace
 
+namespace {
+// Fitmaps of a dense mesh from its working resolution M': computed on M', then interpolated at
+// each vertex's closest point on M'. Unreferenced vertices get S = 0, M = r_0 as usual.
+FitmapResult FitmapsFromWorkingResolution(const TriData& input, const FitmapParams& p, vcg::CallBackPos* cb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  WorkingResolutionParams wp;
+  wp.maxFaces = p.workingFaces;
+  DecimateResult d = WorkingResolution(input, wp, cb);
+  FitmapResult res;
+  EmbreeScene coarseScene(d.mesh);
+  if (!coarseScene.Ok()) { res.error = "ray-casting scene of the working resolution: " + coarseScene.Error(); return res; }
+  FitmapParams q = p;
+  q.workingFaces = 0;
+  FitmapResult c = ComputeFitmaps(d.mesh, coarseScene, q, cb);
+  if (!c.error.empty()) return c;
+  const auto t1 = std::chrono::steady_clock::now();
+  const int n = int(input.V.size());
+  res.S.assign(n, 0.0);
+  res.M.assign(n, c.radii.empty() ? 0.0 : c.radii.front());
+  res.computed.assign(n, 0);
+  std::vector<char> used(n, 0);
+  for (const auto& f : input.F)
+    for (int v : f) used[v] = 1;
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (int i = 0; i < n; ++i) {
+    if (!used[i]) continue;
+    EmbreeScene::Hit h = coarseScene.ClosestPoint(input.V[i]);
+    if (!h.valid) continue;
+    const Tri& t = d.mesh.F[h.face];
+    const double w0 = 1.0 - h.u - h.v;
+    res.S[i] = w0 * c.S[t[0]] + h.u * c.S[t[1]] + h.v * c.S[t[2]];
+    res.M[i] = w0 * c.M[t[0]] + h.u * c.M[t[1]] + h.v * c.M[t[2]];
+    res.computed[i] = 1;
+  }
+  for (char u : used) res.unreferenced += u ? 0 : 1;
+  res.radii = c.radii;
+  res.fallbackNormals = c.fallbackNormals;
+  res.noFit = c.noFit;
+  res.levels = c.levels;
+  res.workingFaces = int(d.mesh.F.size());
+  res.secondsDecimate = d.seconds;
+  res.secondsTransfer = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+}  // namespace
+
 FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, const FitmapParams& p,
                             vcg::CallBackPos* cb) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -496,6 +545,11 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   if (scene.Mesh().V.size() != input.V.size() || scene.Mesh().F.size() != input.F.size()) {
     res.error = "the ray-casting scene was not built on this mesh";
     return res;
+  }
+  if (p.workingFaces < 0) { res.error = "the working resolution must be >= 0 triangles"; return res; }
+  if (p.workingFaces > 0 && int(input.F.size()) > p.workingFaces && p.vertices.empty() &&
+      p.mode == FitmapParams::Mode::Fast && !p.keepPerRadius) {
+    return FitmapsFromWorkingResolution(input, p, cb);
   }
 
   // ---- vertices in Morton (Z-curve) order: the traversals then touch nearby memory (the

@@ -70,6 +70,12 @@ struct FitmapParams {
   double referenceSampleFactor = 4.0;
   /// Keep the per-radius measurements E(r_i) and flipped shares in the result (diagnostics).
   bool keepPerRadius = false;
+  /// Bounded cost on dense meshes (paper §4; docs/multires.md): a mesh with more triangles than
+  /// this is decimated to this many (decimate.h, the same M' as the simplification's), the
+  /// Fitmaps are computed on M' and interpolated to every vertex at its closest point on M'
+  /// (barycentric). 0 = at every vertex of the mesh (the default of the library; the filters
+  /// use their "working resolution"). Fast mode without a vertex subset only.
+  int workingFaces = 0;
 };
 
 /// Per-vertex results, indexed like the TriData's V (unreferenced vertices: S = 0, M = r_0).
@@ -90,6 +96,8 @@ struct FitmapResult {
   std::vector<int> radiusLevel;  ///< Fast mode: hierarchy level each radius is evaluated on
   double seconds = 0;         ///< wall time
   double secondsLevels = 0, secondsCoarse = 0;  ///< Fast mode: wall time at the end of these stages
+  int workingFaces = 0;        ///< triangles the Fitmaps were computed on (0: the mesh itself)
+  double secondsDecimate = 0, secondsTransfer = 0;  ///< with Params::workingFaces
   /// vcg entry point: repairs made on the working copy, and warnings (see input_prep.h)
   std::vector<std::string> notes, warnings;
 };

@@ -134,9 +134,11 @@ struct FaceInfo {
 
 class Simplifier {
  public:
-  Simplifier(const TriData& in, const EmbreeScene& scene, const std::vector<double>& S, const std::vector<double>& M,
-             const QuadSimplifyParams& p, QuadSimplifyResult& res)
-      : in_(in), scene_(scene), S_(S), M_(M), p_(p), res_(res) {
+  // `start`: the mesh the control mesh starts from (M' of §4, or `in` itself); its vertices are
+  // the initial control vertices, so the pinned boundary corners are its own.
+  Simplifier(const TriData& in, const TriData& start, const EmbreeScene& scene, const std::vector<double>& S,
+             const std::vector<double>& M, const QuadSimplifyParams& p, QuadSimplifyResult& res)
+      : in_(in), start_(start), scene_(scene), S_(S), M_(M), p_(p), res_(res) {
     diag_ = BBoxDiagonal(in.V);
     maxDist_ = p.projectionPercent / 100.0 * diag_;
     window_ = 0.005 * diag_;
@@ -151,14 +153,25 @@ class Simplifier {
     for (const auto& f : in.F)
       for (int k = 0; k < 3; ++k)
         if (!he.count(key(f[(k + 1) % 3], f[k]))) bseg_.push_back({f[k], f[(k + 1) % 3]});
-    // sharp corners of the input boundary (turn > boundaryCornerAngleDeg) are pinned
-    pinned_.assign(in.V.size(), 0);
-    std::vector<int> bnext(in.V.size(), -1), bprev(in.V.size(), -1);
-    for (auto& [a, b] : bseg_) { bnext[a] = b; bprev[b] = a; }
+    // sharp corners of the start mesh's boundary (turn > boundaryCornerAngleDeg) are pinned
+    std::vector<std::pair<int, int>> sseg;
+    if (&start == &in) {
+      sseg = bseg_;
+    } else {
+      he.clear();
+      for (const auto& f : start.F)
+        for (int k = 0; k < 3; ++k) he[key(f[k], f[(k + 1) % 3])] = 1;
+      for (const auto& f : start.F)
+        for (int k = 0; k < 3; ++k)
+          if (!he.count(key(f[(k + 1) % 3], f[k]))) sseg.push_back({f[k], f[(k + 1) % 3]});
+    }
+    pinned_.assign(start.V.size(), 0);
+    std::vector<int> bnext(start.V.size(), -1), bprev(start.V.size(), -1);
+    for (auto& [a, b] : sseg) { bnext[a] = b; bprev[b] = a; }
     const double cmin = std::cos(p.boundaryCornerAngleDeg * M_PI / 180.0);
-    for (size_t v = 0; v < in.V.size(); ++v) {
+    for (size_t v = 0; v < start.V.size(); ++v) {
       if (bnext[v] < 0 || bprev[v] < 0) continue;
-      Vec3 e1 = in.V[v] - in.V[bprev[v]], e2 = in.V[bnext[v]] - in.V[v];
+      Vec3 e1 = start.V[v] - start.V[bprev[v]], e2 = start.V[bnext[v]] - start.V[v];
       if (e1.dot(e2) < cmin * e1.norm() * e2.norm()) pinned_[v] = 1;
     }
   }
@@ -296,7 +309,7 @@ class Simplifier {
   // hitFace: the input triangle the target lies on when it is a projection along the normal (else -1)
   Vec3 VertexTarget(int v, int* hitFace = nullptr) const {
     if (hitFace) *hitFace = -1;
-    if (Pinned(v)) return in_.V[v];
+    if (Pinned(v)) return start_.V[v];
     if (K.IsBoundary(v)) return BoundaryTarget(quad::VertexLimit(K, v));
     Vec3 pos, n;
     if (!quad::VertexLimitFrame(K, v, &pos, &n)) return quad::VertexLimit(K, v);
@@ -766,6 +779,7 @@ class Simplifier {
     return Entry{float(cost), f, (stamp << 1) | unsigned(k & 1), float(other)};
   }
   const TriData& in_;
+  const TriData& start_;
   const EmbreeScene& scene_;
   const std::vector<double>& S_;
   const std::vector<double>& M_;
@@ -778,7 +792,7 @@ class Simplifier {
   double window_ = 0;
   std::vector<Vec3> FN_;
   std::vector<std::pair<int, int>> bseg_;
-  std::vector<char> pinned_;  // K vertex slots = input vertex indices for the original vertices
+  std::vector<char> pinned_;  // K vertex slots = start mesh vertex indices for the original vertices
   std::vector<FaceInfo> info_, newInfo_;
   std::vector<char> vok_, newVok_;
   std::vector<int> vhit_, newVhit_;
@@ -823,8 +837,15 @@ class Simplifier {
 
 QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
-                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads) {
+                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
+                                   const TriData* startMesh) {
   QuadSimplifyResult res;
+  const TriData& start = startMesh ? *startMesh : input;
+  if (startMesh && initialQuads && !initialQuads->empty()) {
+    res.error = "initial quads and a start mesh cannot both be given";
+    return res;
+  }
+  if (start.V.empty() || start.F.empty()) { res.error = "the start mesh is empty"; return res; }
   const auto t0 = Clock::now();
   const int nv = int(input.V.size());
   if (input.V.empty() || input.F.empty()) { res.error = "the input mesh is empty"; return res; }
@@ -843,7 +864,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     return res;
   }
   int nme = 0, nmv = 0;
-  CountNonManifold(input, &nme, &nmv);
+  CountNonManifold(start, &nme, &nmv);
   if (nme || nmv) {
     res.error = "the input is not manifold: " + std::to_string(nme) + " non-manifold edges and " +
                 std::to_string(nmv) + " non-manifold vertices (Filters > Cleaning and Repairing > "
@@ -862,7 +883,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
         if (x < 0 || x >= nv) { res.error = "initial quad references vertex " + std::to_string(x) + " out of range"; return res; }
     res.triToQuadPath = quad::TriToQuadPath::AlreadyQuads;
   } else {
-    quad::TriToQuadResult tq = quad::TriToQuad(input, params.triToQuad);
+    quad::TriToQuadResult tq = quad::TriToQuad(start, params.triToQuad);
     if (!tq.error.empty()) { res.error = "tri-to-quad: " + tq.error; return res; }
     q0 = std::move(tq.quads);
     res.triToQuadPath = tq.path;
@@ -871,7 +892,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   // 2. interpolating control points (§3.2)
   auto t1 = Clock::now();
   QuadSimplifyResult& r = res;
-  Simplifier sim(input, scene, S, M, params, r);
+  Simplifier sim(input, start, scene, S, M, params, r);
   sim.K = QuadMesh(q0.V, q0.F);
   {
     std::string err = sim.K.Check();

@@ -134,13 +134,18 @@ struct QuadSimplifyResult {
 ///               vcgext::ComputeFitmaps; sizes must equal input.V.size()
 /// \param initialQuads  optional: quads on input.V to start from (a layer that is already quads);
 ///               nullptr = tri-to-quad conversion
+/// \param startMesh optional: the working resolution M' (§4, decimate.h) the control mesh starts
+///               from (tri-to-quad and the initial interpolation use its vertices); every
+///               projection, the M-fitmap test and the S cost still refer to `input` (M).
+///               nullptr = `input` itself. Not together with initialQuads.
 /// Errors: empty input, size mismatches, non-finite fitmaps, non-manifold input (reports the
 /// number of non-manifold edges and vertices). A mesh too small to simplify returns its pure-quad
 /// mesh with `message` set. Cost: roughly O(F log F) collapses, each O(1) local work
 /// (a few hundred ray casts and small solves).
 QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
-                                   vcg::CallBackPos* cb = nullptr, const std::vector<Quad>* initialQuads = nullptr);
+                                   vcg::CallBackPos* cb = nullptr, const std::vector<Quad>* initialQuads = nullptr,
+                                   const TriData* startMesh = nullptr);
 
 /// Quads encoded in a vcg triangle layer the MeshLab way (triangle pairs whose shared edge is
 /// faux), indexed like the TriData that ImportTriangles(m, data, true) produces. Returns false

@@ -1,0 +1,78 @@
+// The working resolution M' (decimate.h, paper §4): vcglib's quadric edge collapse keeps the
+// topology, the boundary and the shape; repeated requests reuse the result.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "test_support.h"
+#include "vcg_ext/core/decimate.h"
+#include "vcg_ext/core/input_prep.h"
+
+using vcgext::TriData;
+
+namespace {
+int Euler(const TriData& t) {
+  std::set<std::pair<int, int>> e;
+  for (const auto& f : t.F)
+    for (int k = 0; k < 3; ++k) e.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  return int(t.V.size()) - int(e.size()) + int(t.F.size());
+}
+}  // namespace
+
+TEST(WorkingResolution, SmallInputIsUsedAsItIs) {
+  TriData s = testsupport::Icosphere(2);
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 1000;
+  auto r = vcgext::WorkingResolution(s, p);
+  EXPECT_FALSE(r.decimated);
+  EXPECT_EQ(r.mesh.F, s.F);
+  p.maxFaces = 0;
+  EXPECT_FALSE(vcgext::WorkingResolution(testsupport::Icosphere(4), p).decimated);
+}
+
+TEST(WorkingResolution, DenseSphereKeepsTopologyAndShape) {
+  TriData s = testsupport::Icosphere(5);  // 20480 triangles on the unit sphere
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 2000;
+  auto r = vcgext::WorkingResolution(s, p);
+  ASSERT_TRUE(r.decimated);
+  EXPECT_LE(int(r.mesh.F.size()), 2000);
+  EXPECT_GE(int(r.mesh.F.size()), 1900);
+  EXPECT_EQ(Euler(r.mesh), 2);
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(r.mesh);  // manifold, oriented, nothing to repair
+  EXPECT_EQ(w.error, "");
+  EXPECT_TRUE(w.notes.empty());
+  // optimal placement keeps vertices near the sphere (a chord of 2000 faces sags ~0.3 %)
+  for (const auto& v : r.mesh.V) EXPECT_NEAR(v.norm(), 1.0, 0.01);
+  auto again = vcgext::WorkingResolution(s, p);
+  EXPECT_TRUE(again.reused);
+  EXPECT_EQ(again.mesh.F, r.mesh.F);
+  TriData moved = s;
+  moved.V[0][0] += 1e-9;  // any change of the input is a new request
+  EXPECT_FALSE(vcgext::WorkingResolution(moved, p).reused);
+}
+
+TEST(WorkingResolution, OpenGridKeepsItsBoundary) {
+  TriData g = testsupport::HeightField(60, 60, 1.0, [](double x, double y) { return 0.1 * std::sin(3 * x) * std::cos(2 * y); });
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 1500;
+  auto r = vcgext::WorkingResolution(g, p);
+  ASSERT_TRUE(r.decimated);
+  EXPECT_EQ(Euler(r.mesh), 1);
+  // boundary edges lie on the square's border
+  std::set<std::pair<int, int>> he;
+  for (const auto& f : r.mesh.F)
+    for (int k = 0; k < 3; ++k) he.insert({f[k], f[(k + 1) % 3]});
+  int boundary = 0;
+  for (const auto& [a, b] : he)
+    if (!he.count({b, a})) {
+      ++boundary;
+      for (int v : {a, b}) {
+        const auto& x = r.mesh.V[v];
+        double d = std::min({std::abs(x[0]), std::abs(x[0] - 1), std::abs(x[1]), std::abs(x[1] - 1)});
+        EXPECT_LT(d, 1e-9);
+      }
+    }
+  EXPECT_EQ(boundary, 240);  // the boundary is preserved: 4 x 60 edges
+}

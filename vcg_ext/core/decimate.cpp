@@ -1,0 +1,145 @@
+#include "vcg_ext/core/decimate.h"
+
+// vcglib's quadric collapse (third-party) trips GCC 12's -Wmaybe-uninitialized on its optimal
+// placement point (tri_edge_collapse_quadric.h: x is set by the quadric's Minimum()); its
+// templates are instantiated in this file, so the warning is silenced here only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+
+#include <vcg/complex/algorithms/clean.h>
+#include <vcg/complex/algorithms/local_optimization.h>
+#include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
+#include <vcg/complex/complex.h>
+
+namespace vcgext {
+namespace {
+
+// A mesh type with what the quadric collapse needs (VF adjacency, marks, a quadric per vertex).
+class DVertex;
+class DFace;
+struct DUsedTypes
+    : public vcg::UsedTypes<vcg::Use<DVertex>::AsVertexType, vcg::Use<DFace>::AsFaceType> {};
+class DVertex : public vcg::Vertex<DUsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d, vcg::vertex::VFAdj,
+                                   vcg::vertex::Mark, vcg::vertex::BitFlags> {
+ public:
+  vcg::math::Quadric<double>& Qd() { return q_; }
+
+ private:
+  vcg::math::Quadric<double> q_;
+};
+class DFace : public vcg::Face<DUsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::VFAdj,
+                               vcg::face::FFAdj, vcg::face::Mark, vcg::face::BitFlags> {};
+class DMesh : public vcg::tri::TriMesh<std::vector<DVertex>, std::vector<DFace>> {};
+
+using DPair = vcg::tri::BasicVertexPair<DVertex>;
+class DCollapse : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapse, vcg::tri::QInfoStandard<DVertex>> {
+ public:
+  using Base = vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapse, vcg::tri::QInfoStandard<DVertex>>;
+  DCollapse(const DPair& p, int i, vcg::BaseParameterClass* pp) : Base(p, i, pp) {}
+};
+
+// FNV-1a over the mesh's arrays and the parameters: identifies a repeated request.
+std::uint64_t Fingerprint(const TriData& m, const WorkingResolutionParams& p) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto eat = [&](const void* data, size_t n) {
+    const unsigned char* b = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  eat(m.V.data(), m.V.size() * sizeof(Vec3));
+  eat(m.F.data(), m.F.size() * sizeof(Tri));
+  eat(&p.maxFaces, sizeof p.maxFaces);
+  eat(&p.preserveBoundary, sizeof p.preserveBoundary);
+  return h;
+}
+
+// The two latest decimations of this process: in a MeshLab pipeline "Compute Fitmaps" and
+// "Fitmap Quad Simplification" both need M' of the same layer, and on 5 M triangles one
+// decimation takes a minute. Kept: two small meshes.
+struct Decimation {
+  std::uint64_t key = 0;
+  size_t nv = 0, nf = 0;
+  DecimateResult result;
+};
+struct RecentDecimations {
+  std::mutex lock;
+  Decimation slot[2];  ///< [0] the most recent
+};
+RecentDecimations& Memo() {
+  static RecentDecimations memo;
+  return memo;
+}
+
+DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb);
+}  // namespace
+
+DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
+  DecimateResult r;
+  if (p.maxFaces <= 0 || int(m.F.size()) <= p.maxFaces) {
+    r.mesh = m;
+    return r;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::uint64_t key = Fingerprint(m, p);
+  RecentDecimations& memo = Memo();
+  {
+    std::lock_guard<std::mutex> g(memo.lock);
+    for (const Decimation& d : memo.slot)
+      if (d.key == key && d.nv == m.V.size() && d.nf == m.F.size()) {
+        r = d.result;
+        r.reused = true;
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return r;
+      }
+  }
+  r = Decimate(m, p, cb);
+  std::lock_guard<std::mutex> g(memo.lock);
+  memo.slot[1] = std::move(memo.slot[0]);
+  memo.slot[0] = Decimation{key, m.V.size(), m.F.size(), r};
+  return r;
+}
+
+namespace {
+DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DecimateResult r;
+  DMesh d;
+  auto vi = vcg::tri::Allocator<DMesh>::AddVertices(d, m.V.size());
+  for (size_t i = 0; i < m.V.size(); ++i, ++vi) vi->P() = vcg::Point3d(m.V[i][0], m.V[i][1], m.V[i][2]);
+  auto fi = vcg::tri::Allocator<DMesh>::AddFaces(d, m.F.size());
+  for (size_t f = 0; f < m.F.size(); ++f, ++fi)
+    for (int k = 0; k < 3; ++k) fi->V(k) = &d.vert[m.F[f][k]];
+  vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
+  vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
+  vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
+
+  vcg::tri::TriEdgeCollapseQuadricParameter qp;
+  qp.PreserveTopology = true;
+  qp.FastPreserveBoundary = p.preserveBoundary;  // what MeshLab's filter uses for "Preserve Boundary"
+  qp.OptimalPlacement = true;
+  qp.QualityCheck = true;
+  qp.NormalCheck = true;
+  qp.NormalThrRad = M_PI / 4.0;
+  vcg::LocalOptimization<DMesh> session(d, &qp);
+  session.Init<DCollapse>();
+  session.SetTargetSimplices(p.maxFaces);
+  session.SetTimeBudget(0.1f);  // returns ten times a second for progress
+  const int toDelete = d.fn - p.maxFaces;
+  while (session.DoOptimization() && d.fn > p.maxFaces)
+    if (cb) cb(100 - 100 * (d.fn - p.maxFaces) / std::max(1, toDelete), "Working resolution: decimating");
+  session.Finalize<DCollapse>();
+  vcg::tri::Allocator<DMesh>::CompactEveryVector(d);
+  r.mesh.V.reserve(d.vert.size());
+  for (const auto& v : d.vert) r.mesh.V.push_back(Vec3(v.cP()[0], v.cP()[1], v.cP()[2]));
+  r.mesh.F.reserve(d.face.size());
+  for (const auto& f : d.face)
+    r.mesh.F.push_back({int(vcg::tri::Index(d, f.cV(0))), int(vcg::tri::Index(d, f.cV(1))), int(vcg::tri::Index(d, f.cV(2)))});
+  r.decimated = true;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+}  // namespace
+
+}  // namespace vcgext

@@ -1,0 +1,39 @@
+#pragma once
+/// \file decimate.h
+/// The working resolution M' of a dense input (Fitmaps paper §4, "large meshes": the control mesh
+/// is initialised on a decimated M' while all fitting and mapping refer to the full M):
+/// vcglib's quadric edge collapse (the decimator behind MeshLab's "Simplification: Quadric Edge
+/// Collapse Decimation"), with topology and boundary preserved, on a copy of the mesh.
+#include <vector>
+
+#include <cstring>  // wrap/callback.h uses strcpy without including it
+#include <wrap/callback.h>
+
+#include "vcg_ext/core/indexed_mesh.h"
+
+namespace vcgext {
+
+/// The rule that chooses the working size (docs/multires.md): an input with more than
+/// `maxFaces` triangles is decimated to `maxFaces`; smaller inputs are used as they are.
+struct WorkingResolutionParams {
+  int maxFaces = 0;              ///< 0 = always the full input
+  bool preserveBoundary = true;  ///< boundary vertices are not collapsed (open scans keep their rim)
+};
+
+struct DecimateResult {
+  TriData mesh;        ///< the decimated mesh (or a copy of the input when it is small enough)
+  bool decimated = false;
+  bool reused = false;  ///< the same request as the previous one in this process: its result, not recomputed
+  double seconds = 0;
+};
+
+/// M' of `m` by the rule above. Preconditions: manifold, oriented (a WorkingCopy). The result
+/// keeps the genus, components and boundary loops (vcglib's PreserveTopology / boundary
+/// options); it may stop above the target where no valid collapse is left. Cost O(F log F).
+/// The two latest results are kept (small meshes) and returned again for the same mesh and
+/// parameters (exact fingerprint of the arrays): the Fitmaps and the simplification of one
+/// pipeline share one decimation. Thread-safe.
+DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p,
+                                 vcg::CallBackPos* cb = nullptr);
+
+}  // namespace vcgext
