@@ -209,7 +209,7 @@ WorkingCopy PrepareWorkingCopy(const TriData& raw) {
   for (size_t id = 0; id + 1 < e.offs.size(); ++id) w.nonManifoldEdges += e.offs[id + 1] - e.offs[id] > 2;
   w.nonManifoldVertices = CountNonManifoldVertices(F, e, n);
   if (w.nonManifoldEdges || w.nonManifoldVertices) {
-    w.error = "the mesh is not manifold: " + Plural(w.nonManifoldEdges, "edge is", "edges are") +
+    w.error = "the mesh is non-manifold: " + Plural(w.nonManifoldEdges, "edge is", "edges are") +
               " shared by more than two triangles and " +
               Plural(w.nonManifoldVertices, "vertex joins", "vertices join") +
               " separate pieces of surface; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
