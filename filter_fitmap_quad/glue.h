@@ -38,6 +38,8 @@ void SetStageTimes(CMeshO& m, const StageTimes& t);
 /// input serves both filters).
 constexpr int kDefaultFitmapsWorkingFaces = 100000;
 constexpr int kDefaultWorkingFaces = 40000;
+/// A smaller input starts the simplification from its midpoint refinement (docs/robustness.md).
+constexpr int kMinWorkingFaces = 1000;
 
 // Compute Fitmaps (glue_fitmaps.cpp)
 void InitFitmapsParams(MeshDocument& md, RichParameterList& par);

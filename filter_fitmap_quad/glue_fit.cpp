@@ -166,6 +166,7 @@ bool ApplyFit(GlueContext& ctx) {
   ctx.md.setCurrentMesh(fitted->id());
 
   ctx.log(vcgext::FormatReport(r));
+  for (const auto& w : r.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: " + w);
   ctx.log("Fit Catmull-Clark Surface: wrote displacement.png, displacement.json, " +
           std::string(p.normalMap ? "normal.png, " : "") + "control.obj (+ .mtl), control.ply, report.json to " + dir);
   return true;

@@ -117,10 +117,15 @@ bool ApplyQuad(GlueContext& ctx) {
   vcgext::WorkingResolutionParams wf, wp;
   wf.maxFaces = useQuads || workingFaces == 0 ? 0 : std::max(workingFaces, kDefaultFitmapsWorkingFaces);
   wp.maxFaces = useQuads ? 0 : workingFaces;
+  wp.minFaces = useQuads ? 0 : kMinWorkingFaces;
   vcgext::DecimateResult base = vcgext::WorkingResolution(tri, wf, ctx.cb);
   vcgext::DecimateResult work = vcgext::WorkingResolution(base.mesh, wp, ctx.cb);
   work.seconds += base.seconds;
   work.decimated = work.decimated || base.decimated;
+  if (work.refinements > 0)
+    ctx.log("Fitmap Quad Simplification: the input has only " + std::to_string(tri.F.size()) +
+            " triangles: the control mesh starts from it refined " + std::to_string(work.refinements) +
+            " times at edge midpoints (" + std::to_string(work.mesh.F.size()) + " triangles, the same surface)");
   if (work.decimated) {
     ctx.log("Fitmap Quad Simplification: working resolution " + std::to_string(work.mesh.F.size()) +
             " triangles (the input has " + std::to_string(tri.F.size()) + "), decimated in " +
@@ -128,7 +133,7 @@ bool ApplyQuad(GlueContext& ctx) {
     times.push_back({"working_resolution", work.seconds});
   }
   vcgext::QuadSimplifyResult r = vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr,
-                                                         work.decimated ? &work.mesh : nullptr);
+                                                         work.decimated || work.refinements ? &work.mesh : nullptr);
   if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
 
   char name[128];

@@ -12,6 +12,7 @@
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
+#include <vcg/complex/algorithms/refine.h>
 #include <vcg/complex/complex.h>
 
 namespace vcgext {
@@ -73,10 +74,43 @@ RecentDecimations& Memo() {
 }
 
 DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb);
+
+void ToDMesh(const TriData& m, DMesh& d) {
+  auto vi = vcg::tri::Allocator<DMesh>::AddVertices(d, m.V.size());
+  for (size_t i = 0; i < m.V.size(); ++i, ++vi) vi->P() = vcg::Point3d(m.V[i][0], m.V[i][1], m.V[i][2]);
+  auto fi = vcg::tri::Allocator<DMesh>::AddFaces(d, m.F.size());
+  for (size_t f = 0; f < m.F.size(); ++f, ++fi)
+    for (int k = 0; k < 3; ++k) fi->V(k) = &d.vert[m.F[f][k]];
+}
+TriData FromDMesh(DMesh& d) {
+  vcg::tri::Allocator<DMesh>::CompactEveryVector(d);
+  TriData t;
+  t.V.reserve(d.vert.size());
+  for (const auto& v : d.vert) t.V.push_back(Vec3(v.cP()[0], v.cP()[1], v.cP()[2]));
+  t.F.reserve(d.face.size());
+  for (const auto& f : d.face)
+    t.F.push_back({int(vcg::tri::Index(d, f.cV(0))), int(vcg::tri::Index(d, f.cV(1))), int(vcg::tri::Index(d, f.cV(2)))});
+  return t;
+}
+
+// vcglib's edge-midpoint refinement (every edge) until the mesh has `minFaces` triangles.
+DecimateResult Refine(const TriData& m, int minFaces) {
+  DecimateResult r;
+  DMesh d;
+  ToDMesh(m, d);
+  while (d.fn < minFaces) {
+    vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
+    vcg::tri::Refine<DMesh>(d, vcg::tri::MidPoint<DMesh>(&d), 0);
+    ++r.refinements;
+  }
+  r.mesh = FromDMesh(d);
+  return r;
+}
 }  // namespace
 
 DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
   DecimateResult r;
+  if (p.minFaces > 0 && !m.F.empty() && int(m.F.size()) < p.minFaces) return Refine(m, p.minFaces);
   if (p.maxFaces <= 0 || int(m.F.size()) <= p.maxFaces) {
     r.mesh = m;
     return r;
@@ -106,11 +140,7 @@ DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg:
   const auto t0 = std::chrono::steady_clock::now();
   DecimateResult r;
   DMesh d;
-  auto vi = vcg::tri::Allocator<DMesh>::AddVertices(d, m.V.size());
-  for (size_t i = 0; i < m.V.size(); ++i, ++vi) vi->P() = vcg::Point3d(m.V[i][0], m.V[i][1], m.V[i][2]);
-  auto fi = vcg::tri::Allocator<DMesh>::AddFaces(d, m.F.size());
-  for (size_t f = 0; f < m.F.size(); ++f, ++fi)
-    for (int k = 0; k < 3; ++k) fi->V(k) = &d.vert[m.F[f][k]];
+  ToDMesh(m, d);
   vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
   vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
@@ -130,12 +160,7 @@ DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg:
   while (session.DoOptimization() && d.fn > p.maxFaces)
     if (cb) cb(100 - 100 * (d.fn - p.maxFaces) / std::max(1, toDelete), "Working resolution: decimating");
   session.Finalize<DCollapse>();
-  vcg::tri::Allocator<DMesh>::CompactEveryVector(d);
-  r.mesh.V.reserve(d.vert.size());
-  for (const auto& v : d.vert) r.mesh.V.push_back(Vec3(v.cP()[0], v.cP()[1], v.cP()[2]));
-  r.mesh.F.reserve(d.face.size());
-  for (const auto& f : d.face)
-    r.mesh.F.push_back({int(vcg::tri::Index(d, f.cV(0))), int(vcg::tri::Index(d, f.cV(1))), int(vcg::tri::Index(d, f.cV(2)))});
+  r.mesh = FromDMesh(d);
   r.decimated = true;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -17,17 +17,22 @@ namespace vcgext {
 /// `maxFaces` triangles is decimated to `maxFaces`; smaller inputs are used as they are.
 struct WorkingResolutionParams {
   int maxFaces = 0;              ///< 0 = always the full input
+  /// A smaller input is refined by edge midpoints (the same surface) until it has at least this
+  /// many triangles: a cube of 12 triangles would otherwise start from 6 quads, whose smooth
+  /// limit stays far inside the cube (0 = never).
+  int minFaces = 0;
   bool preserveBoundary = true;  ///< boundary vertices are not collapsed (open scans keep their rim)
 };
 
 struct DecimateResult {
   TriData mesh;        ///< the decimated mesh (or a copy of the input when it is small enough)
   bool decimated = false;
+  int refinements = 0;  ///< midpoint refinements applied to a small input (minFaces)
   bool reused = false;  ///< the same request as the previous one in this process: its result, not recomputed
   double seconds = 0;
 };
 
-/// M' of `m` by the rule above. Preconditions: manifold, oriented (a WorkingCopy). The result
+/// M' of `m` by the rule above (decimated above maxFaces, refined below minFaces). Preconditions: manifold, oriented (a WorkingCopy). The result
 /// keeps the genus, components and boundary loops (vcglib's PreserveTopology / boundary
 /// options); it may stop above the target where no valid collapse is left. Cost O(F log F).
 /// The two latest results are kept (small meshes) and returned again for the same mesh and

@@ -974,8 +974,30 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.totalSeconds = staged + r.times.back().second;
   struct rusage ru;
   if (getrusage(RUSAGE_SELF, &ru) == 0) r.peakMemoryMb = ru.ru_maxrss / 1024.0;
+  r.warnings = ResultWarnings(r);
   prog(100, "Fit and bake: done", true);
   return r;
+}
+
+std::vector<std::string> ResultWarnings(const FitBakeResult& r) {
+  std::vector<std::string> w;
+  char buf[400];
+  if (r.metrics.unprojectablePct > 1.0) {
+    std::snprintf(buf, sizeof buf,
+                  "%.2f %% of the reference area is not reached by projection from the limit surface (more than 1 %%): "
+                  "the displacement does not cover it; use a smaller tau or more patches",
+                  r.metrics.unprojectablePct);
+    w.push_back(buf);
+  }
+  if (r.metrics.maxLimitPermille > 20.0) {
+    std::snprintf(buf, sizeof buf,
+                  "the smooth limit surface stays up to %.1f permille of the bbox diagonal from the reference (RMS %.2f): "
+                  "sharp corners or creases that a Catmull-Clark limit cannot follow with %d patches; the "
+                  "displacement carries the rest (RMS %.3f permille)",
+                  r.metrics.maxLimitPermille, r.metrics.rmsLimitPermille, r.fit.patches, r.metrics.rmsDisplacedPermille);
+    w.push_back(buf);
+  }
+  return w;
 }
 
 std::string FormatReport(const FitBakeResult& r) {

@@ -239,7 +239,16 @@ struct FitBakeResult {
   double totalSeconds = 0;
   double peakMemoryMb = 0;        ///< process peak RSS (getrusage) at the end
   int referenceVertices = 0, referenceFaces = 0;
+  /// What the user should know about an otherwise valid result (ResultWarnings): also in the
+  /// report's "warnings" list and, from the filter, in the log.
+  std::vector<std::string> warnings;
 };
+
+/// Warnings a valid result still deserves (issue 16): more than 1 % of the reference area
+/// unprojectable; a limit surface that stays far from the reference somewhere (max error above
+/// 2 % of the bbox diagonal: sharp corners or creases that a smooth Catmull-Clark limit cannot
+/// follow with this many patches).
+std::vector<std::string> ResultWarnings(const FitBakeResult& r);
 
 /// Fits `control` to `ref` (FitCatmullClark), tessellates the limit, bakes the atlas, builds the
 /// displaced surface and measures Table-1 metrics. `scene` must be built on `ref`. On error only

@@ -14,7 +14,6 @@
 namespace vcgext {
 
 namespace {
-
 struct FileCloser {
   void operator()(FILE* f) const { if (f) std::fclose(f); }
 };
@@ -222,11 +221,15 @@ std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::
   }
   double total = r.totalSeconds;
   for (const auto& t : extraTimes) total += t.second;
+  std::string warnings = "[";
+  for (size_t i = 0; i < r.warnings.size(); ++i) warnings += std::string(i ? ", " : "") + "\"" + Esc(r.warnings[i]) + "\"";
+  warnings += "]";
   o << "{\n"
     << "  \"patches\": " << r.fit.patches << ",\n"
     << "  \"irregular_vertices\": " << r.fit.irregularVertices << ",\n"
     << "  \"degenerate_patches\": " << r.fit.degeneratePatches << ",\n"
     << "  \"unprojectable_pct\": " << Num(r.metrics.unprojectablePct) << ",\n"
+    << "  \"warnings\": " << warnings << ",\n"
     << "  \"rms_limit_permille\": " << Num(r.metrics.rmsLimitPermille) << ",\n"
     << "  \"max_limit_permille\": " << Num(r.metrics.maxLimitPermille) << ",\n"
     << "  \"rms_displaced_permille\": " << Num(r.metrics.rmsDisplacedPermille) << ",\n"
