@@ -40,6 +40,8 @@ constexpr int kDefaultFitmapsWorkingFaces = 100000;
 constexpr int kDefaultWorkingFaces = 40000;
 /// A smaller input starts the simplification from its midpoint refinement (docs/robustness.md).
 constexpr int kMinWorkingFaces = 1000;
+/// An input with a vertex of higher valence starts from an isotropic remesh (decimate.h).
+constexpr int kMaxStartValence = 24;
 
 // Compute Fitmaps (glue_fitmaps.cpp)
 void InitFitmapsParams(MeshDocument& md, RichParameterList& par);

@@ -118,10 +118,15 @@ bool ApplyQuad(GlueContext& ctx) {
   wf.maxFaces = useQuads || workingFaces == 0 ? 0 : std::max(workingFaces, kDefaultFitmapsWorkingFaces);
   wp.maxFaces = useQuads ? 0 : workingFaces;
   wp.minFaces = useQuads ? 0 : kMinWorkingFaces;
+  wp.maxValence = useQuads ? 0 : kMaxStartValence;
   vcgext::DecimateResult base = vcgext::WorkingResolution(tri, wf, ctx.cb);
   vcgext::DecimateResult work = vcgext::WorkingResolution(base.mesh, wp, ctx.cb);
   work.seconds += base.seconds;
   work.decimated = work.decimated || base.decimated;
+  if (work.remeshedValence > 0)
+    ctx.log("Fitmap Quad Simplification: the input has a vertex of valence " + std::to_string(work.remeshedValence) +
+            ": the control mesh starts from an isotropic remesh of it (" + std::to_string(work.mesh.F.size()) +
+            " triangles, " + std::to_string(work.seconds) + " s); projections and errors refer to the input");
   if (work.refinements > 0)
     ctx.log("Fitmap Quad Simplification: the input has only " + std::to_string(tri.F.size()) +
             " triangles: the control mesh starts from it refined " + std::to_string(work.refinements) +
@@ -133,7 +138,7 @@ bool ApplyQuad(GlueContext& ctx) {
     times.push_back({"working_resolution", work.seconds});
   }
   vcgext::QuadSimplifyResult r = vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr,
-                                                         work.decimated || work.refinements ? &work.mesh : nullptr);
+                                                         work.decimated || work.refinements || work.remeshedValence ? &work.mesh : nullptr);
   if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
 
   char name[128];

@@ -12,6 +12,7 @@
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
+#include <vcg/complex/algorithms/isotropic_remeshing.h>
 #include <vcg/complex/algorithms/refine.h>
 #include <vcg/complex/complex.h>
 
@@ -24,7 +25,7 @@ class DFace;
 struct DUsedTypes
     : public vcg::UsedTypes<vcg::Use<DVertex>::AsVertexType, vcg::Use<DFace>::AsFaceType> {};
 class DVertex : public vcg::Vertex<DUsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d, vcg::vertex::VFAdj,
-                                   vcg::vertex::Mark, vcg::vertex::BitFlags> {
+                                   vcg::vertex::Mark, vcg::vertex::Qualityd, vcg::vertex::BitFlags> {
  public:
   vcg::math::Quadric<double>& Qd() { return q_; }
 
@@ -32,7 +33,7 @@ class DVertex : public vcg::Vertex<DUsedTypes, vcg::vertex::Coord3d, vcg::vertex
   vcg::math::Quadric<double> q_;
 };
 class DFace : public vcg::Face<DUsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::VFAdj,
-                               vcg::face::FFAdj, vcg::face::Mark, vcg::face::BitFlags> {};
+                               vcg::face::FFAdj, vcg::face::Mark, vcg::face::Qualityd, vcg::face::BitFlags> {};
 class DMesh : public vcg::tri::TriMesh<std::vector<DVertex>, std::vector<DFace>> {};
 
 using DPair = vcg::tri::BasicVertexPair<DVertex>;
@@ -106,10 +107,49 @@ DecimateResult Refine(const TriData& m, int minFaces) {
   r.mesh = FromDMesh(d);
   return r;
 }
+int MaxValence(const TriData& m) {
+  std::vector<int> val(m.V.size(), 0);
+  for (const auto& f : m.F)
+    for (int v : f) ++val[v];
+  int mx = 0;
+  for (int x : val) mx = std::max(mx, x);
+  return mx;
+}
+
+// vcglib's isotropic remeshing to about `faces` triangles (edge length from the area), five
+// iterations, projected onto the input; boundaries and creases above 30 degrees kept.
+DecimateResult Remesh(const TriData& m, int faces) {
+  DecimateResult r;
+  DMesh d, ref;
+  ToDMesh(m, d);
+  ToDMesh(m, ref);
+  double area = 0;
+  for (const auto& f : m.F) area += 0.5 * (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]).norm();
+  vcg::tri::IsotropicRemeshing<DMesh>::Params ip;
+  ip.SetTargetLen(std::sqrt(4.0 * area / (std::sqrt(3.0) * std::max(1, faces))));
+  ip.SetFeatureAngleDeg(30);
+  ip.iter = 5;
+  ip.surfDistCheck = false;  // its maxSurfDist has no default; projection onto the input keeps the shape
+  vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
+  vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
+  vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
+  vcg::tri::IsotropicRemeshing<DMesh>::Do(d, ref, ip);
+  r.mesh = FromDMesh(d);
+  return r;
+}
 }  // namespace
 
 DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
   DecimateResult r;
+  const int valence = p.maxValence > 0 ? MaxValence(m) : 0;
+  if (valence > p.maxValence && p.maxValence > 0) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int faces = std::max(p.minFaces, p.maxFaces > 0 ? std::min(int(m.F.size()), p.maxFaces) : int(m.F.size()));
+    r = Remesh(m, faces);
+    r.remeshedValence = valence;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
   if (p.minFaces > 0 && !m.F.empty() && int(m.F.size()) < p.minFaces) return Refine(m, p.minFaces);
   if (p.maxFaces <= 0 || int(m.F.size()) <= p.maxFaces) {
     r.mesh = m;

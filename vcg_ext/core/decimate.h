@@ -21,6 +21,11 @@ struct WorkingResolutionParams {
   /// many triangles: a cube of 12 triangles would otherwise start from 6 quads, whose smooth
   /// limit stays far inside the cube (0 = never).
   int minFaces = 0;
+  /// A start mesh with a vertex of higher valence (a cone's apex, the poles of a UV sphere) is
+  /// remeshed isotropically (vcglib's IsotropicRemeshing, about as many triangles, projected
+  /// onto the input): a valence-500 vertex makes every collapse, stencil and fit around it cost
+  /// hundreds of times more (0 = never).
+  int maxValence = 0;
   bool preserveBoundary = true;  ///< boundary vertices are not collapsed (open scans keep their rim)
 };
 
@@ -28,11 +33,13 @@ struct DecimateResult {
   TriData mesh;        ///< the decimated mesh (or a copy of the input when it is small enough)
   bool decimated = false;
   int refinements = 0;  ///< midpoint refinements applied to a small input (minFaces)
+  int remeshedValence = 0;  ///< the highest valence that made the input be remeshed (maxValence), else 0
   bool reused = false;  ///< the same request as the previous one in this process: its result, not recomputed
   double seconds = 0;
 };
 
-/// M' of `m` by the rule above (decimated above maxFaces, refined below minFaces). Preconditions: manifold, oriented (a WorkingCopy). The result
+/// M' of `m` by the rule above (decimated above maxFaces, refined below minFaces, remeshed above
+/// maxValence). Preconditions: manifold, oriented (a WorkingCopy). The result
 /// keeps the genus, components and boundary loops (vcglib's PreserveTopology / boundary
 /// options); it may stop above the target where no valid collapse is left. Cost O(F log F).
 /// The two latest results are kept (small meshes) and returned again for the same mesh and
