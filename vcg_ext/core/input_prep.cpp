@@ -192,7 +192,20 @@ void PrecisionWarning(const std::vector<Vec3>& V, WorkingCopy& w) {
 
 }  // namespace
 
+namespace {
+WorkingCopy PrepareWorkingCopyImpl(const TriData& raw);
+}  // namespace
+
 WorkingCopy PrepareWorkingCopy(const TriData& raw) {
+  WorkingCopy w = PrepareWorkingCopyImpl(raw);
+  // coordinates rounded by float precision can be the cause of the error (a far-off model whose
+  // vertices collapse onto each other): say so with it
+  if (!w.error.empty() && !w.warnings.empty()) w.error += " (" + w.warnings.front() + ")";
+  return w;
+}
+
+namespace {
+WorkingCopy PrepareWorkingCopyImpl(const TriData& raw) {
   WorkingCopy w;
   const int n = int(raw.V.size());
   PrecisionWarning(raw.V, w);
@@ -202,7 +215,6 @@ WorkingCopy PrepareWorkingCopy(const TriData& raw) {
     w.error = "all " + Plural(int(raw.F.size()), "face is", "faces are") +
               " degenerate (zero length edges: each repeats a vertex" +
               std::string(w.mergedVertices ? " once coincident vertices are merged" : "") + ")";
-    if (!w.warnings.empty()) w.error += "; " + w.warnings.front();
     return w;
   }
   EdgeFaces e = BuildEdgeFaces(F);
@@ -255,6 +267,7 @@ WorkingCopy PrepareWorkingCopy(const TriData& raw) {
                       " so that every component is consistently oriented");
   return w;
 }
+}  // namespace
 
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads) {
   if (w.flippedFaces > 0) return false;

@@ -638,6 +638,19 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       if (t[k] < 0 || t[k] >= nV) { error_ = "face " + std::to_string(f) + " has an out-of-range vertex index " + std::to_string(t[k]); return; }
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { error_ = "face " + std::to_string(f) + " repeats a vertex"; return; }
   }
+  if (p.maxValence > 0) {
+    std::vector<int> valence(nV, 0);
+    for (const auto& t : net.F)
+      for (int v : t) ++valence[v];
+    const auto it = std::max_element(valence.begin(), valence.end());
+    if (*it > p.maxValence) {
+      error_ = "vertex " + std::to_string(it - valence.begin()) + " is in " + std::to_string(*it) +
+               " triangles (at most " + std::to_string(p.maxValence) +
+               " are supported: the Loop evaluation around such a vertex takes minutes); remesh the layer first "
+               "(Filters > Remeshing, Simplification and Reconstruction > Remeshing: Isotropic Explicit Remeshing)";
+      return;
+    }
+  }
   // edges: sort directed half-edges by undirected key
   struct HE { int64_t key; int f, k; };
   std::vector<HE> he(3 * size_t(nF));

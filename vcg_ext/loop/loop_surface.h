@@ -58,6 +58,11 @@ struct LoopSurfaceParams {
   int cacheDepth = 2;
   /// Maximum local subdivision depth before the paper's nudge (Fig. 8 uses 25).
   int maxDepth = 25;
+  /// Nets with a vertex of higher valence are refused with a clear error: the evaluation near an
+  /// extraordinary vertex works on its whole ring (local subdivision matrices of size ~valence),
+  /// and a cone's apex of valence 2000 or a UV sphere's poles of valence 500 ran for minutes
+  /// (issue 16). 0 = no limit.
+  int maxValence = 64;
 };
 
 /// Everything an evaluation returns. Derivatives are with respect to (v, w).
