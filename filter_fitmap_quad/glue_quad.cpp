@@ -75,10 +75,11 @@ bool ApplyQuad(GlueContext& ctx) {
   bool useQuads = false;
   if (faux > 0) {
     std::string err = vcgext::ImportQuads(in.cm, given);
-    useQuads = err.empty() && vcgext::RemapQuadsToWorkingCopy(w, given.F);
+    // a tiny quad layer (a 6-quad cube) is better started from its refined triangles
+    useQuads = err.empty() && int(given.F.size()) * 2 >= kMinWorkingFaces && vcgext::RemapQuadsToWorkingCopy(w, given.F);
     ctx.log(useQuads ? "Fitmap Quad Simplification: the layer is pure quads: simplifying its quads"
                      : "Fitmap Quad Simplification: the layer's polygons are not usable as quads (" +
-                           (err.empty() ? std::string("repaired on the working copy") : err) +
+                           (err.empty() ? std::string("repaired on the working copy, or too few") : err) +
                            "): simplifying its triangles");
   }
   vcgext::EmbreeScene scene(tri);

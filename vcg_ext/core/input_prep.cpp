@@ -193,11 +193,22 @@ void PrecisionWarning(const std::vector<Vec3>& V, WorkingCopy& w) {
 }  // namespace
 
 namespace {
-WorkingCopy PrepareWorkingCopyImpl(const TriData& raw);
+WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge);
 }  // namespace
 
 WorkingCopy PrepareWorkingCopy(const TriData& raw) {
-  WorkingCopy w = PrepareWorkingCopyImpl(raw);
+  WorkingCopy w = PrepareWorkingCopyImpl(raw, true);
+  if (w.mergedVertices > 0 && (w.nonManifoldEdges > 0 || w.nonManifoldVertices > 0)) {
+    // Coincident vertices can be distinct on purpose (a scan touching itself at a point, the
+    // two sides of a crack): when merging them is what makes the surface non-manifold, they
+    // stay apart.
+    WorkingCopy apart = PrepareWorkingCopyImpl(raw, false);
+    if (apart.nonManifoldEdges == 0 && apart.nonManifoldVertices == 0) {
+      apart.notes.insert(apart.notes.begin(), "kept " + std::to_string(w.mergedVertices) +
+                                                  " coincident vertices apart (merging them would make the surface non-manifold)");
+      w = std::move(apart);
+    }
+  }
   // coordinates rounded by float precision can be the cause of the error (a far-off model whose
   // vertices collapse onto each other): say so with it
   if (!w.error.empty() && !w.warnings.empty()) w.error += " (" + w.warnings.front() + ")";
@@ -205,11 +216,13 @@ WorkingCopy PrepareWorkingCopy(const TriData& raw) {
 }
 
 namespace {
-WorkingCopy PrepareWorkingCopyImpl(const TriData& raw) {
+WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   WorkingCopy w;
   const int n = int(raw.V.size());
   PrecisionWarning(raw.V, w);
-  std::vector<int> rep = MergeExactDuplicates(raw.V, &w.mergedVertices);
+  std::vector<int> rep(n);
+  if (merge) rep = MergeExactDuplicates(raw.V, &w.mergedVertices);
+  else std::iota(rep.begin(), rep.end(), 0);
   std::vector<Tri> F = UniqueFaces(raw.F, rep, w);
   if (F.empty()) {
     w.error = "all " + Plural(int(raw.F.size()), "face is", "faces are") +

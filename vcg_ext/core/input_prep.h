@@ -7,7 +7,8 @@
 ///
 /// Steps, in order (each counted, and named in `notes` when it changed something):
 ///  1. exact duplicate vertices (bitwise-equal coordinates, what STL soups and unwelded exports
-///     hold) are merged;
+///     hold) are merged — unless merging is what makes the surface non-manifold (coincident
+///     vertices kept apart on purpose: a surface touching itself, the sides of a crack);
 ///  2. faces that repeat a vertex after merging (degenerate) and repeated faces (same three
 ///     vertices, either orientation) are dropped;
 ///  3. edges in more than two triangles, and vertices where separate sheets touch, are counted:
