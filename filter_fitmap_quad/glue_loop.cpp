@@ -53,6 +53,15 @@ bool ReadSurfaceParams(GlueContext& ctx, CMeshO& m, vcgext::LoopSurfaceParams& s
   return true;
 }
 
+// Fails (and says why) when the layer cannot be read: face references outside its vertices,
+// NaN coordinates, empty (ImportTriangles' checks; a point layer without faces is fine here).
+bool CheckReadable(GlueContext& ctx, const CMeshO& m, const std::string& prefix) {
+  vcgext::TriData t;
+  vcgext::ImportReport rep = vcgext::ImportTriangles(m, t, /*allowPolygonal=*/true, /*keepDegenerate=*/true);
+  if (!rep.error.empty() && rep.error.find("point cloud") == std::string::npos) return ctx.Fail(prefix + rep.error);
+  return true;
+}
+
 // The repairs made on the working copy (input_prep.h), one log line each.
 void LogWorkingCopy(GlueContext& ctx, const std::string& prefix, const vcgext::LoopVcgReport& rep) {
   for (const auto& n : rep.notes) ctx.log(prefix + n);
@@ -129,6 +138,7 @@ bool ApplyLoopSnap(GlueContext& ctx) {
   if (net == &pts) return ctx.Fail("the control net must be another layer than the points (the current layer)");
   vcgext::LoopSurfaceParams sp;
   if (!ReadSurfaceParams(ctx, net->cm, sp)) return false;
+  if (!CheckReadable(ctx, pts.cm, "Loop Surrogate: Snap Points: ")) return false;
   // Snap a copy: the layer is only changed when everything succeeded.
   CMeshO copy;
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(copy, pts.cm, false, true);
@@ -168,6 +178,9 @@ bool ApplyLoopCurvature(GlueContext& ctx) {
   if (!ReadSurfaceParams(ctx, m.cm, sp)) return false;
   const int kind = ctx.par.getEnum(param::kCurvatureKind);
   if (kind < 0 || kind > 4) return ctx.Fail("unknown curvature kind");
+  // The layer is read (and its face references checked) before copying it: a corrupt file's
+  // out-of-range references would crash vcglib's copy.
+  if (!CheckReadable(ctx, m.cm, "Loop Surrogate: Curvature: ")) return false;
   // Compute on a copy so a failure leaves the layer (and whether it has quality) untouched.
   CMeshO copy;
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(copy, m.cm, false, true);
