@@ -135,6 +135,15 @@ struct AltSearch {
   std::vector<int> prevEven, via, viaHe, seen;
   int stamp = 0;
   explicit AltSearch(int nt) : prevEven(nt, -1), via(nt, -1), viaHe(nt, -1), seen(nt, 0) {}
+  // Marks y (reached from even node x across half-edge h) and its mate z, the next even node.
+  void Reach(int x, int y, int z, int h, std::vector<int>& queue) {
+    seen[y] = stamp;
+    seen[z] = stamp;
+    prevEven[z] = x;
+    via[z] = y;
+    viaHe[z] = h;  // half-edge of x towards y
+    queue.push_back(z);
+  }
   // Flips the path root .. x so that x's old partner chain moves one step towards the root.
   void Flip(int root, int x, const std::vector<int>& twin, Pairing& pr) const {
     while (x != root) {
@@ -169,12 +178,7 @@ void AugmentPairs(const std::vector<int>& twin, const std::vector<char>& forbidd
           if (pr.mate[y] == -1) { foundX = x; foundY = y; foundH = h; break; }
           int z = pr.mate[y];
           if (s.seen[z] == s.stamp) continue;
-          s.seen[y] = s.stamp;
-          s.seen[z] = s.stamp;
-          s.prevEven[z] = x;
-          s.via[z] = y;
-          s.viaHe[z] = h;  // half-edge of x towards y
-          queue.push_back(z);
+          s.Reach(x, y, z, h, queue);
         }
       }
       if (foundX < 0) continue;
@@ -340,12 +344,7 @@ void ReserveBoundarySplits(const std::vector<int>& twin, const std::vector<char>
         if (s.seen[y] == s.stamp || pr.mate[y] < 0) continue;
         int zz = pr.mate[y];
         if (s.seen[zz] == s.stamp) continue;
-        s.seen[y] = s.stamp;
-        s.seen[zz] = s.stamp;
-        s.prevEven[zz] = x;
-        s.via[zz] = y;
-        s.viaHe[zz] = h;
-        queue.push_back(zz);
+        s.Reach(x, y, zz, h, queue);
       }
     }
     if (z < 0) continue;
