@@ -1,8 +1,22 @@
 #!/usr/bin/env bash
 # Sets everything up (apt packages, MeshLab sources, sample scans, build, plugin install) and
 # runs every test through ctest: unit, property and end-to-end (meshlabserver + GUI) tests.
+# Then (issue 16) the unit tests again under ASan + UBSan (tests/run_sanitized.sh, build-asan)
+# and a short libFuzzer smoke run of tests/fuzz/fuzz_mesh.cpp (scripts/fuzz.sh, build-fuzz).
+# Arguments go to every ctest run. Environment: FITMAP_SKIP_SANITIZE=1 skips the sanitizer run,
+# FITMAP_FUZZ_SECONDS (default 0 = skip) is the length of an optional fuzz smoke run.
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 bash "$REPO/scripts/setup.sh"
-cd "${FITMAP_BUILD_DIR:-$REPO/build}"
-ctest --output-on-failure -j"$(nproc)" "$@"
+status=0
+(cd "${FITMAP_BUILD_DIR:-$REPO/build}" && ctest --output-on-failure -j"$(nproc)" "$@") || status=1
+if [ "${FITMAP_SKIP_SANITIZE:-0}" != 1 ]; then
+  bash "$REPO/tests/run_sanitized.sh" "$@" || status=1
+fi
+if [ "${FITMAP_FUZZ_SECONDS:-0}" != 0 ]; then
+  # from the seeds (tests/fuzz/make_seeds.py) in a scratch corpus, with a fixed libFuzzer seed
+  corpus=$(mktemp -d)
+  bash "$REPO/scripts/fuzz.sh" "${FITMAP_FUZZ_SECONDS}" "$corpus" -seed=1 || status=1
+  rm -rf "$corpus"
+fi
+exit $status
