@@ -124,6 +124,10 @@ bool ApplyQuad(GlueContext& ctx) {
   vcgext::DecimateResult work = vcgext::WorkingResolution(base.mesh, wp, ctx.cb);
   work.seconds += base.seconds;
   work.decimated = work.decimated || base.decimated;
+  if (base.skippedDegenerate || work.skippedDegenerate)
+    ctx.log("Warning: Fitmap Quad Simplification: the input has zero-area triangles, which the decimation "
+            "cannot handle: simplifying from the full input (slower; Filters > Cleaning and Repairing > "
+            "Remove Zero Area Faces avoids it)");
   if (work.remeshedValence > 0)
     ctx.log("Fitmap Quad Simplification: the input has a vertex of valence " + std::to_string(work.remeshedValence) +
             ": the control mesh starts from an isotropic remesh of it (" + std::to_string(work.mesh.F.size()) +

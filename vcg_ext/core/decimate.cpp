@@ -155,6 +155,16 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
     r.mesh = m;
     return r;
   }
+  // vcglib's quadrics are NaN on zero-area faces (its collapse asserts on them; the fuzzer found
+  // it): such a mesh is used at full resolution
+  for (const auto& f : m.F) {
+    const Vec3 n = (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]);
+    if (!(n.norm() > 0) || !n.allFinite()) {
+      r.mesh = m;
+      r.skippedDegenerate = true;
+      return r;
+    }
+  }
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t key = Fingerprint(m, p);
   RecentDecimations& memo = Memo();

@@ -34,7 +34,8 @@ struct DecimateResult {
   bool decimated = false;
   int refinements = 0;  ///< midpoint refinements applied to a small input (minFaces)
   int remeshedValence = 0;  ///< the highest valence that made the input be remeshed (maxValence), else 0
-  bool reused = false;  ///< the same request as the previous one in this process: its result, not recomputed
+  bool reused = false;
+  bool skippedDegenerate = false;  ///< not decimated: zero-area faces (vcglib's quadrics would be NaN)  ///< the same request as the previous one in this process: its result, not recomputed
   double seconds = 0;
 };
 
