@@ -169,3 +169,21 @@ TEST(InputPrep, CoincidentVerticesThatMustStayApartAreNotMerged) {
   ASSERT_FALSE(w.notes.empty());
   EXPECT_NE(w.notes[0].find("kept 1 coincident"), std::string::npos) << w.notes[0];
 }
+
+// Coordinates beyond kMaxCoordinate: a clear error where the layer is read, and in Fitmaps'
+// array entry point, before any ray is cast (Debian's Embree aborts on rays beyond 1.844e18:
+// the fuzzer's tests/fuzz/regressions/embree_ray_origin_beyond_1.8e18).
+TEST(InputPrep, CoordinatesBeyondTheRayCastersRangeAreAClearError) {
+  for (double scale : {1e16, 1e18, 1e30}) {
+    TriData s = testsupport::Icosphere(1, scale);
+    vcgext::TMesh m;
+    testsupport::ToVcg(s, m);
+    const WorkingCopy w = vcgext::PrepareWorkingCopy(m);
+    if (scale <= vcgext::kMaxCoordinate) {
+      EXPECT_EQ(w.error, "") << scale;
+      continue;
+    }
+    EXPECT_NE(w.error.find("beyond 1e17"), std::string::npos) << scale << ": " << w.error;
+    EXPECT_NE(w.error.find("scale the mesh down"), std::string::npos) << w.error;
+  }
+}

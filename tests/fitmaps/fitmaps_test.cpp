@@ -419,6 +419,10 @@ TEST(Fitmaps, InvalidInputIsReported) {
   bad.V[3][1] = std::nan("");
   vcgext::EmbreeScene bs(plane);  // scene sizes match; the NaN is caught first
   EXPECT_NE(vcgext::ComputeFitmaps(bad, bs, FitmapParams()).error.find("vertex 3"), std::string::npos);
+  TriData huge = plane;  // beyond what Embree represents (it aborts on such rays): an error, no ray
+  for (auto& x : huge.V) x *= 1e19;
+  vcgext::EmbreeScene hs(huge);
+  EXPECT_NE(vcgext::ComputeFitmaps(huge, hs, FitmapParams()).error.find("beyond 1e17"), std::string::npos);
 }
 
 // ---------------------------------------------------------------- vcg entry point

@@ -47,21 +47,10 @@ using vcgext::TMesh;
 using vcgext::TriData;
 
 constexpr int kMaxVertices = 64, kMaxFaces = 96, kPastEnd = 4;
-// Known issues found by this fuzzer and not fixed yet are kept out of the way so that it can look
-// for other problems; their reproducers are tests/fuzz/regressions/known_*. Compile with
-// -DFUZZ_MESH_KNOWN_ISSUES to run into them again (e.g. to check a fix, then delete the skips).
-#ifdef FUZZ_MESH_KNOWN_ISSUES
-constexpr bool kSkipKnownIssues = false;
-#else
-constexpr bool kSkipKnownIssues = true;
-#endif
-// 1. Debian's libembree3 is built with assertions and aborts (ray.valid()) on a ray whose origin
-//    has a coordinate beyond +-1.844e18, which ComputeFitmaps casts on meshes that large:
-//    meshes with a coordinate beyond kKnownRayCoordinateLimit skip ComputeFitmaps.
-constexpr double kKnownRayCoordinateLimit = 1e17;
-// 2. The array entry ComputeFitmaps(TriData, ...) with workingFaces > 0 decimates before it
-//    validates its input; on a mesh whose vertices coincide, vcglib's quadric collapse computes
-//    NaN errors (an assert in debug builds): the raw-import path runs without working resolution.
+// The issues this fuzzer found are fixed; their reproducers stay in tests/fuzz/regressions and
+// are replayed by the FuzzMesh.Replay test: Embree's abort on rays beyond 1.8e18 (huge
+// coordinates are now an input error, kMaxCoordinate) and vcglib's quadric collapse on
+// coincident vertices (raw_working_resolution_coincident_vertices).
 enum : uint8_t {
   kFlagAllowPolygonal = 1,  // ImportTriangles(allowPolygonal)
   kFlagKeepDegenerate = 2,  // ImportTriangles(keepDegenerate)
@@ -262,18 +251,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   CheckWorkingCopy(w, live);
   if (w.error.empty()) CheckQuads(vcgext::quad::TriToQuad(w.mesh), w.mesh);
 
-  double largest = 0;
-  for (const auto& v : m.vert)
-    for (int k = 0; k < 3; ++k)
-      if (std::isfinite(v.cP()[k])) largest = std::max(largest, double(std::abs(v.cP()[k])));
-  if ((flags & kFlagFitmaps) && !(kSkipKnownIssues && largest > kKnownRayCoordinateLimit)) {
+  if (flags & kFlagFitmaps) {
     if (flags & kFlagFitmapsRaw) {
       // The array entry point has no preconditions (non-manifold, degenerate faces, unreferenced
       // vertices are handled): run it on the raw import with degenerate faces kept.
       TriData all;
       if (vcgext::ImportTriangles(m, all, true, true).error.empty()) {
-        vcgext::FitmapParams p = DecodeParams(in, flags, int(all.V.size()));
-        if (kSkipKnownIssues) p.workingFaces = 0;  // known issue 2
+        const vcgext::FitmapParams p = DecodeParams(in, flags, int(all.V.size()));
         vcgext::EmbreeScene scene(all);
         CheckFitmaps(vcgext::ComputeFitmaps(all, scene, p), all.V.size());
       }

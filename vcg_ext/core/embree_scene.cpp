@@ -82,9 +82,10 @@ EmbreeScene::~EmbreeScene() {
 EmbreeScene::Hit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double tnear,
                                         double tfar) const {
   Hit h;
-  // a ray Embree cannot represent (non-finite, or beyond float range) hits nothing (the fuzzer
-  // found Fitmaps rays with overflowing directions on degenerate input: Embree asserts on them)
-  const auto representable = [](const Vec3& x) { return x.allFinite() && x.cwiseAbs().maxCoeff() < 1e38; };
+  // a ray Embree cannot represent (non-finite, or beyond its FLT_LARGE = 1.844e18: ray.valid())
+  // hits nothing (the fuzzer found Fitmaps rays with overflowing directions on degenerate input,
+  // and origins beyond 1.8e18 on huge meshes: Debian's Embree asserts on them)
+  const auto representable = [](const Vec3& x) { return x.allFinite() && x.cwiseAbs().maxCoeff() < 1.8e18; };
   if (!scene_ || !representable(org) || !representable(dir) || std::isnan(tnear) || std::isnan(tfar)) return h;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -167,7 +168,7 @@ EmbreeScene::Hit EmbreeScene::NearestOnLine(const Vec3& c, const Vec3& dir, doub
 
 EmbreeScene::Hit EmbreeScene::ClosestPoint(const Vec3& p, double maxDist) const {
   Hit best;
-  if (!scene_ || !p.allFinite() || p.cwiseAbs().maxCoeff() >= 1e38 || std::isnan(maxDist)) return best;
+  if (!scene_ || !p.allFinite() || p.cwiseAbs().maxCoeff() >= 1.8e18 || std::isnan(maxDist)) return best;
   ClosestQuery q{&mesh_, &best, std::numeric_limits<double>::infinity()};
   RTCPointQuery query;
   query.x = float(p[0]); query.y = float(p[1]); query.z = float(p[2]);

@@ -67,9 +67,16 @@ struct ImportReport {
   int unreferenced = 0;     ///< vertices used by no face (kept in V)
 };
 
+/// Largest coordinate magnitude the filters accept. Embree (all ray casting) rejects rays whose
+/// origin or direction has a coordinate beyond FLT_LARGE = 1.844e18 (Debian's build aborts on
+/// them: the fuzzer's known_embree_ray_origin_beyond_1.8e18); rays start on the surface and reach
+/// a few bounding-box diagonals beyond it, so an order of magnitude is left.
+constexpr double kMaxCoordinate = 1e17;
+
 /// Copies the live vertices and faces of a vcg triangle mesh into `out`.
 /// Errors (nothing written to `out` is meaningful then): empty layer, point cloud (no faces),
-/// polygonal faces (faux edges, when `allowPolygonal` is false), non-finite coordinates, faces
+/// polygonal faces (faux edges, when `allowPolygonal` is false), non-finite coordinates or
+/// coordinates beyond kMaxCoordinate, faces
 /// whose vertex references lie outside the layer's vertices or on deleted ones (a corrupt file).
 /// Faces with a repeated vertex index are dropped and counted (kept with `keepDegenerate`).
 template <class MeshType>
@@ -79,7 +86,7 @@ ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygona
   out.V.clear();
   out.F.clear();
   std::vector<int> remap(m.vert.size(), -1);
-  int nonFinite = 0, firstBad = -1;
+  int nonFinite = 0, firstBad = -1, huge = 0, firstHuge = -1;
   for (size_t i = 0; i < m.vert.size(); ++i) {
     if (m.vert[i].IsD()) { ++rep.deletedSkipped; continue; }
     const auto& p = m.vert[i].cP();
@@ -87,6 +94,9 @@ ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygona
     if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
       if (firstBad < 0) firstBad = int(out.V.size());
       ++nonFinite;
+    } else if (q.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      if (firstHuge < 0) firstHuge = int(out.V.size());
+      ++huge;
     }
     remap[i] = int(out.V.size());
     out.V.push_back(q);
@@ -133,6 +143,12 @@ ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygona
   if (nonFinite > 0) {
     rep.error = std::to_string(nonFinite) + " vertices have NaN or infinite coordinates (first: vertex " +
                 std::to_string(firstBad) + ")";
+    return rep;
+  }
+  if (huge > 0) {
+    rep.error = std::to_string(huge) + " vertices have coordinates beyond 1e17 (first: vertex " +
+                std::to_string(firstHuge) + "), more than the ray caster can represent; scale the mesh down "
+                "(Filters > Normals, Curvatures and Orientation > Transform: Scale, Normalize)";
     return rep;
   }
   if (out.F.empty()) { rep.error = "all faces are degenerate"; return rep; }

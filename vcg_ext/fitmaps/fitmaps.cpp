@@ -524,6 +524,11 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   if (input.F.empty()) { res.error = "the mesh has no faces (point cloud): a triangle mesh is needed"; return res; }
   for (size_t i = 0; i < input.V.size(); ++i)
     if (!input.V[i].allFinite()) { res.error = "vertex " + std::to_string(i) + " has NaN or infinite coordinates"; return res; }
+  for (size_t i = 0; i < input.V.size(); ++i)
+    if (input.V[i].cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      res.error = "vertex " + std::to_string(i) + " has a coordinate beyond 1e17, more than the ray caster can represent: scale the mesh down";
+      return res;
+    }
   int badIdx = 0;
   for (const auto& f : input.F)
     for (int c : f) badIdx += (c < 0 || c >= nV) ? 1 : 0;

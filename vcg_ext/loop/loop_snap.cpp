@@ -294,6 +294,25 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
         }
       for (int g : fan) add(g);
     }
+    // Round a vertex of very high valence (a UV sphere's pole of valence 500) the fans hold
+    // hundreds of faces, each a Newton solve whose evaluations subdivide the whole ring: keep the
+    // current face and the kMaxFallbackFaces - 1 others whose control triangles are closest to p
+    // (the closest limit point lies over them: the limit surface stays within the control
+    // polygon's convex hull). Ordinary meshes have fewer candidates and are searched in full.
+    constexpr size_t kMaxFallbackFaces = 48;
+    if (cand.size() > kMaxFallbackFaces) {
+      std::vector<std::pair<double, int>> byDistance;
+      byDistance.reserve(cand.size() - 1);
+      for (size_t i = 1; i < cand.size(); ++i) {
+        const auto& G = N.F[cand[i]];
+        const Vec3 q = ClosestPointOnTriangle(p, N.V[G[0]], N.V[G[1]], N.V[G[2]], nullptr, nullptr);
+        byDistance.push_back({(q - p).squaredNorm(), cand[i]});
+      }
+      std::stable_sort(byDistance.begin(), byDistance.end(),
+                       [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a.first < b.first; });
+      cand.resize(1);
+      for (size_t i = 0; i + 1 < kMaxFallbackFaces; ++i) cand.push_back(byDistance[i].second);
+    }
     for (int g : cand) {
       double a = 1.0 / 3, b = 1.0 / 3;
       int ee;

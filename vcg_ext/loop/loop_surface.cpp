@@ -114,6 +114,10 @@ bool Gather(const LNet& n, Vec3 X[12]) {
   // corners must be smooth or crease
   for (int k = 0; k < 3; ++k)
     if (n.type[T[k]] == (unsigned char)LoopVertexType::Corner) return false;
+  // A regular patch lives in at most 64 faces (the breadth-first search below); a larger net is
+  // irregular. Tested before the quadratic adjacency search: the nets round a vertex of valence
+  // 2000 have ~4000 faces.
+  if (nf > 64) return false;
   // face adjacency inside the net
   std::vector<std::array<int, 3>> adj(nf, {-1, -1, -1});
   for (int f = 0; f < nf; ++f)
@@ -132,7 +136,6 @@ bool Gather(const LNet& n, Vec3 X[12]) {
   co[T[2]] = {0, 1};
   std::vector<char> vis(nf, 0);
   int queue[64], qh = 0, qt = 0;
-  if (nf > 64) return false;
   queue[qt++] = n.target;
   vis[n.target] = 1;
   while (qh < qt) {
@@ -317,11 +320,14 @@ LNet Subdivide(const LNet& n, int child) {
   // edges
   struct E { int a, b, id; };
   std::vector<E> edges;
+  // edge (a < b) -> new vertex id; a hash map, not a scan of `edges`: the net round a vertex of
+  // valence N has ~N such edges and ~2N faces, so a scan made each step O(N^2)
+  std::unordered_map<int64_t, int> edgeIds;
+  edgeIds.reserve(2 * n.F.size());
+  auto edgeKey = [nv](int a, int b) { return int64_t(std::min(a, b)) * nv + std::max(a, b); };
   auto edgeId = [&](int a, int b) {
-    if (a > b) std::swap(a, b);
-    for (const E& e : edges)
-      if (e.a == a && e.b == b) return e.id;
-    return -1;
+    const auto it = edgeIds.find(edgeKey(a, b));
+    return it == edgeIds.end() ? -1 : it->second;
   };
   std::vector<Vec3> opp;
   std::vector<int> oppCount;
@@ -334,6 +340,7 @@ LNet Subdivide(const LNet& n, int child) {
       if (id < 0) {
         id = int(out.P.size());
         edges.push_back({std::min(a, b), std::max(a, b), id});
+        edgeIds.emplace(edgeKey(a, b), id);
         out.P.push_back(Vec3::Zero());
         out.type.push_back(n.H[f][j] ? (unsigned char)LoopVertexType::Crease : (unsigned char)LoopVertexType::Smooth);
         opp.push_back(Vec3::Zero());
@@ -392,7 +399,6 @@ LNet Subdivide(const LNet& n, int child) {
     if (isCorner(c)) add({vpOf(c), eca, ebc}, {h[2], 0, h[1]});
     add({eab, ebc, eca}, {0, 0, 0});
   }
-  (void)nv;
   // compact
   std::vector<int> remap(out.P.size(), -1);
   LNet res;
