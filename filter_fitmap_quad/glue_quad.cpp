@@ -94,10 +94,8 @@ bool ApplyQuad(GlueContext& ctx) {
                     vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hM) &&
                     std::abs(GetFitmapTau(in.cm) - tau) < 1e-6;
   if (have) {
-    std::vector<double> liveS, liveM;
-    for (auto& v : in.cm.vert)
-      if (!v.IsD()) { liveS.push_back(hS[v]); liveM.push_back(hM[v]); }
-    for (int live : w.meshToLive) { S.push_back(liveS[live]); M.push_back(liveM[live]); }
+    S = vcgext::AttributeOnWorkingCopy(w, in.cm, hS);
+    M = vcgext::AttributeOnWorkingCopy(w, in.cm, hM);
     ctx.log("Fitmap Quad Simplification: using the layer's Fitmaps (tau = " + std::to_string(tau) + "%)");
   } else {
     vcgext::FitmapParams fp;
@@ -113,37 +111,14 @@ bool ApplyQuad(GlueContext& ctx) {
   }
 
   // Working resolution M' (§4): the control mesh starts from a decimated copy of a dense input.
-  // Through the Fitmaps' M'_F first: the decimation "Compute Fitmaps" made of this layer is
-  // reused (decimate.h keeps its recent results), and M'_S costs a small second one.
-  vcgext::WorkingResolutionParams wf, wp;
-  wf.maxFaces = useQuads || workingFaces == 0 ? 0 : std::max(workingFaces, kDefaultFitmapsWorkingFaces);
-  wp.maxFaces = useQuads ? 0 : workingFaces;
-  wp.minFaces = useQuads ? 0 : kMinWorkingFaces;
-  wp.maxValence = useQuads ? 0 : kMaxStartValence;
-  vcgext::DecimateResult base = vcgext::WorkingResolution(tri, wf, ctx.cb);
-  vcgext::DecimateResult work = vcgext::WorkingResolution(base.mesh, wp, ctx.cb);
-  work.seconds += base.seconds;
-  work.decimated = work.decimated || base.decimated;
-  if (base.skippedDegenerate || work.skippedDegenerate)
-    ctx.log("Warning: Fitmap Quad Simplification: the input has zero-area triangles, which the decimation "
-            "cannot handle: simplifying from the full input (slower; Filters > Cleaning and Repairing > "
-            "Remove Zero Area Faces avoids it)");
-  if (work.remeshedValence > 0)
-    ctx.log("Fitmap Quad Simplification: the input has a vertex of valence " + std::to_string(work.remeshedValence) +
-            ": the control mesh starts from an isotropic remesh of it (" + std::to_string(work.mesh.F.size()) +
-            " triangles, " + std::to_string(work.seconds) + " s); projections and errors refer to the input");
-  if (work.refinements > 0)
-    ctx.log("Fitmap Quad Simplification: the input has only " + std::to_string(tri.F.size()) +
-            " triangles: the control mesh starts from it refined " + std::to_string(work.refinements) +
-            " times at edge midpoints (" + std::to_string(work.mesh.F.size()) + " triangles, the same surface)");
-  if (work.decimated) {
-    ctx.log("Fitmap Quad Simplification: working resolution " + std::to_string(work.mesh.F.size()) +
-            " triangles (the input has " + std::to_string(tri.F.size()) + "), decimated in " +
-            std::to_string(work.seconds) + " s; projections and errors refer to the full input");
-    times.push_back({"working_resolution", work.seconds});
-  }
+  vcgext::StartMeshParams sp{0, 0, 0, 0};  // a pure-quad layer: from its quads
+  if (!useQuads) sp = {workingFaces, kDefaultFitmapsWorkingFaces, kMinWorkingFaces, kMaxStartValence};
+  const vcgext::StartMesh start = vcgext::ChooseStartMesh(tri, sp, ctx.cb);
+  for (const std::string& warning : start.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + warning);
+  for (const std::string& note : start.notes) ctx.log("Fitmap Quad Simplification: " + note);
+  if (start.work.decimated) times.push_back({"working_resolution", start.work.seconds});
   vcgext::QuadSimplifyResult r = vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr,
-                                                         work.decimated || work.refinements || work.remeshedValence ? &work.mesh : nullptr);
+                                                         start.differs ? &start.work.mesh : nullptr);
   if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
 
   char name[128];

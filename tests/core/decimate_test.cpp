@@ -76,3 +76,34 @@ TEST(WorkingResolution, OpenGridKeepsItsBoundary) {
     }
   EXPECT_EQ(boundary, 240);  // the boundary is preserved: 4 x 60 edges
 }
+
+// The simplification's start-mesh policy (ChooseStartMesh): which rule fired, the mesh it gives
+// and the log line that says so.
+TEST(StartMesh, EachRuleGivesItsMeshAndNote) {
+  const TriData dense = testsupport::Icosphere(5);  // 20480 triangles
+  vcgext::StartMeshParams p;
+  p.workingFaces = 5000;
+  p.fitmapsWorkingFaces = 10000;
+  const vcgext::StartMesh d = vcgext::ChooseStartMesh(dense, p);
+  EXPECT_TRUE(d.differs);
+  EXPECT_TRUE(d.work.decimated);
+  EXPECT_NEAR(double(d.work.mesh.F.size()), 5000.0, 50.0);
+  ASSERT_EQ(d.notes.size(), 1u);
+  EXPECT_NE(d.notes[0].find("working resolution " + std::to_string(d.work.mesh.F.size()) + " triangles"), std::string::npos)
+      << d.notes[0];
+  EXPECT_TRUE(d.warnings.empty());
+
+  const TriData tiny = testsupport::Icosphere(0);  // 20 triangles: refined twice to 320 >= 300
+  p.minFaces = 300;
+  const vcgext::StartMesh t = vcgext::ChooseStartMesh(tiny, p);
+  EXPECT_TRUE(t.differs);
+  EXPECT_EQ(t.work.refinements, 2);
+  EXPECT_EQ(t.work.mesh.F.size(), 320u);
+  ASSERT_EQ(t.notes.size(), 1u);
+  EXPECT_NE(t.notes[0].find("refined 2 times"), std::string::npos) << t.notes[0];
+
+  const vcgext::StartMesh same = vcgext::ChooseStartMesh(dense, vcgext::StartMeshParams{0, 0, 0, 0});
+  EXPECT_FALSE(same.differs);
+  EXPECT_TRUE(same.notes.empty());
+  EXPECT_EQ(same.work.mesh.F.size(), dense.F.size());
+}

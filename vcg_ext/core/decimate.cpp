@@ -5,6 +5,7 @@
 // templates are instantiated in this file, so the warning is silenced here only.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <mutex>
@@ -216,5 +217,36 @@ DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg:
   return r;
 }
 }  // namespace
+
+StartMesh ChooseStartMesh(const TriData& input, const StartMeshParams& p, vcg::CallBackPos* cb) {
+  WorkingResolutionParams wf, wp;
+  wf.maxFaces = p.workingFaces == 0 ? 0 : std::max(p.workingFaces, p.fitmapsWorkingFaces);
+  wp.maxFaces = p.workingFaces;
+  wp.minFaces = p.minFaces;
+  wp.maxValence = p.maxValence;
+  StartMesh s;
+  const DecimateResult base = WorkingResolution(input, wf, cb);
+  s.work = WorkingResolution(base.mesh, wp, cb);
+  DecimateResult& work = s.work;
+  work.seconds += base.seconds;
+  work.decimated = work.decimated || base.decimated;
+  if (base.skippedDegenerate || work.skippedDegenerate)
+    s.warnings.push_back("the input has zero-area triangles, which the decimation cannot handle: simplifying from "
+                         "the full input (slower; Filters > Cleaning and Repairing > Remove Zero Area Faces avoids it)");
+  if (work.remeshedValence > 0)
+    s.notes.push_back("the input has a vertex of valence " + std::to_string(work.remeshedValence) +
+                      ": the control mesh starts from an isotropic remesh of it (" + std::to_string(work.mesh.F.size()) +
+                      " triangles, " + std::to_string(work.seconds) + " s); projections and errors refer to the input");
+  if (work.refinements > 0)
+    s.notes.push_back("the input has only " + std::to_string(input.F.size()) +
+                      " triangles: the control mesh starts from it refined " + std::to_string(work.refinements) +
+                      " times at edge midpoints (" + std::to_string(work.mesh.F.size()) + " triangles, the same surface)");
+  if (work.decimated)
+    s.notes.push_back("working resolution " + std::to_string(work.mesh.F.size()) + " triangles (the input has " +
+                      std::to_string(input.F.size()) + "), decimated in " + std::to_string(work.seconds) +
+                      " s; projections and errors refer to the full input");
+  s.differs = work.decimated || work.refinements > 0 || work.remeshedValence > 0;
+  return s;
+}
 
 }  // namespace vcgext

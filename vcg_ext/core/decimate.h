@@ -4,6 +4,7 @@
 /// is initialised on a decimated M' while all fitting and mapping refer to the full M):
 /// vcglib's quadric edge collapse (the decimator behind MeshLab's "Simplification: Quadric Edge
 /// Collapse Decimation"), with topology and boundary preserved, on a copy of the mesh.
+#include <string>
 #include <vector>
 
 #include <cstring>  // wrap/callback.h uses strcpy without including it
@@ -34,8 +35,8 @@ struct DecimateResult {
   bool decimated = false;
   int refinements = 0;  ///< midpoint refinements applied to a small input (minFaces)
   int remeshedValence = 0;  ///< the highest valence that made the input be remeshed (maxValence), else 0
-  bool reused = false;
-  bool skippedDegenerate = false;  ///< not decimated: zero-area faces (vcglib's quadrics would be NaN)  ///< the same request as the previous one in this process: its result, not recomputed
+  bool reused = false;             ///< the same request as the previous one in this process: its result, not recomputed
+  bool skippedDegenerate = false;  ///< not decimated: zero-area faces (vcglib's quadrics would be NaN)
   double seconds = 0;
 };
 
@@ -48,5 +49,25 @@ struct DecimateResult {
 /// pipeline share one decimation. Thread-safe.
 DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p,
                                  vcg::CallBackPos* cb = nullptr);
+
+/// Where the quad simplification starts (paper §4; docs/multires.md, docs/robustness.md).
+struct StartMeshParams {
+  int workingFaces = 40000;           ///< M' size: larger inputs are decimated to it (0 = never)
+  /// The Fitmaps' working size: M' is decimated from the Fitmaps' M'_F, so the decimation that
+  /// "Compute Fitmaps" made of the layer is reused (WorkingResolution keeps recent results).
+  int fitmapsWorkingFaces = 100000;
+  int minFaces = 1000;                ///< smaller inputs start from their midpoint refinement
+  int maxValence = 24;                ///< a vertex of higher valence: start from an isotropic remesh
+};
+struct StartMesh {
+  DecimateResult work;                ///< the start mesh (work.mesh) and what was done to get it
+  bool differs = false;               ///< false: start from the input itself
+  std::vector<std::string> notes;     ///< log lines (what was done, at which size, how long)
+  std::vector<std::string> warnings;  ///< log warnings
+};
+/// The start mesh of the quad simplification of `input` (a WorkingCopy's mesh): WorkingResolution
+/// through M'_F, then to workingFaces, refined below minFaces, remeshed above maxValence. All zero
+/// parameters (a pure-quad layer simplified from its quads): the input itself.
+StartMesh ChooseStartMesh(const TriData& input, const StartMeshParams& p, vcg::CallBackPos* cb = nullptr);
 
 }  // namespace vcgext

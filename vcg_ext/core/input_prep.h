@@ -59,6 +59,19 @@ std::vector<T> ToLiveVertices(const WorkingCopy& w, const std::vector<T>& perMes
   return out;
 }
 
+/// Values of a per-vertex attribute of the layer `m` (read on its live vertices, in order) for
+/// the working copy's vertices (each takes the value of its meshToLive vertex).
+template <class MeshType, class Handle>
+std::vector<double> AttributeOnWorkingCopy(const WorkingCopy& w, const MeshType& m, Handle h) {
+  std::vector<double> live;
+  for (const auto& v : m.vert)
+    if (!v.IsD()) live.push_back(double(h[v]));
+  std::vector<double> out;
+  out.reserve(w.meshToLive.size());
+  for (int i : w.meshToLive) out.push_back(live[size_t(i)]);
+  return out;
+}
+
 /// Re-indexes quads given on the layer's live vertices (a polygonal layer's quads) onto the
 /// working copy. False (quads unusable: use the working copy's triangles) if a corner has no
 /// working vertex, a quad repeats a vertex after merging, or faces were re-oriented.

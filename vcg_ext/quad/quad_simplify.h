@@ -215,14 +215,7 @@ QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& 
                 "): compute the Fitmaps first";
     return res;
   }
-  std::vector<double> liveS, liveM;
-  for (const auto& v : m.vert) {
-    if (v.IsD()) continue;
-    liveS.push_back(double(hS[v]));
-    liveM.push_back(double(hM[v]));
-  }
-  std::vector<double> S, M;
-  for (int live : w.meshToLive) { S.push_back(liveS[live]); M.push_back(liveM[live]); }
+  const std::vector<double> S = AttributeOnWorkingCopy(w, m, hS), M = AttributeOnWorkingCopy(w, m, hM);
   TriData raw;
   ImportTriangles(m, raw, /*allowPolygonal=*/true);
   std::vector<Quad> quads;
