@@ -4,6 +4,7 @@
 
 #include "filter_table.h"
 #include "glue.h"
+#include "vcg_ext/core/memory.h"
 
 using namespace fitmapquad;
 
@@ -132,6 +133,7 @@ bool FilterFitmapQuadPlugin::applyFilter(QAction* a, MeshDocument& md, const Ric
     return false;
   }
   GlueContext ctx{md, par, cb, [this](const std::string& s) { Log(s); }, errorMessage};
+  vcgext::StagePeakMemoryMb();  // the filter's stages measure their own peak memory from here
   try {
     switch (ID(a)) {
       case FP_COMPUTE_FITMAPS: return ApplyFitmaps(ctx);

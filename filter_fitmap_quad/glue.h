@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "vcg_ext/core/memory.h"
+
 namespace fitmapquad {
 
 struct GlueContext {
@@ -31,6 +33,10 @@ struct GlueContext {
 using StageTimes = std::vector<std::pair<std::string, double>>;
 StageTimes GetStageTimes(CMeshO& m);
 void SetStageTimes(CMeshO& m, const StageTimes& t);
+/// Peak resident memory (MB) of the same stages (vcgext::StagePeakMemoryMb), carried the same way.
+using StageMemory = vcgext::StageMemory;
+StageMemory GetStageMemory(CMeshO& m);
+void SetStageMemory(CMeshO& m, const StageMemory& s);
 
 /// Default working resolutions (docs/multires.md "The rule"), in triangles: "Compute Fitmaps"
 /// runs on M'_F (the paper's §4 size, about 100K triangles; bunny00's 75k stays as it is), and

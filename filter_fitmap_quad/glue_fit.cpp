@@ -131,7 +131,8 @@ bool ApplyFit(GlueContext& ctx) {
                         vcgext::WriteQuadPly(dir + "/control.ply", r.fit.control)})
     if (!e.empty()) return ctx.Fail(e);
   StageTimes earlier = GetStageTimes(control.cm);
-  err = vcgext::WriteReportJson(dir + "/report.json", r, earlier);
+  StageMemory earlierMemory = GetStageMemory(control.cm);
+  err = vcgext::WriteReportJson(dir + "/report.json", r, earlier, earlierMemory);
   if (!err.empty()) return ctx.Fail(err);
 
   // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
@@ -144,6 +145,8 @@ bool ApplyFit(GlueContext& ctx) {
   StageTimes all = earlier;
   for (const auto& t : r.times) all.push_back(t);
   SetStageTimes(fitted->cm, all);
+  for (const auto& m : r.memory) earlierMemory.push_back(m);
+  SetStageMemory(fitted->cm, earlierMemory);
 
   // Both surfaces are coloured over one symmetric range (the limit layer's 1-99 % percentiles), so
   // their colours compare: green = on the reference, red / blue = below / above it.

@@ -60,6 +60,7 @@ bool ApplyFitmaps(GlueContext& ctx) {
 
   SetFitmapTau(mm.cm, p.tauPercent);
   SetStageTimes(mm.cm, {{"fitmaps", secs}});
+  SetStageMemory(mm.cm, {{"fitmaps", vcgext::StagePeakMemoryMb()}});
   const bool showM = ctx.par.getEnum(param::kChannel) == 1;
   mm.updateDataMask(MeshModel::MM_VERTQUALITY);
   vcgext::QualityFromAttribute(mm.cm, showM ? vcgext::kFitmapMAttr : vcgext::kFitmapSAttr);

@@ -131,6 +131,9 @@ bool ApplyQuad(GlueContext& ctx) {
   times.push_back({"initial_fit", r.secondsInitialFit});
   times.push_back({"simplification", r.secondsSimplify});
   SetStageTimes(out->cm, times);
+  StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
+  memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});
+  SetStageMemory(out->cm, memory);
 
   std::ostringstream log;
   log << "Fitmap Quad Simplification: " << r.initialPatches << " -> " << r.patches << " patches, "

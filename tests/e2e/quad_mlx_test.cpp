@@ -100,6 +100,16 @@ TEST(RunPipeline, WholePipelineOnElephantWritesConsistentOutputs) {
   }
   EXPECT_NEAR(JsonNumber(json, "total"), sum, 1e-6 + 1e-6 * sum);  // rounding of the printed values only
   EXPECT_GT(JsonNumber(json, "peak_memory_mb"), 10);
+  // Peak memory per stage (one entry per filter before the fit, then the fit's stages): each
+  // holds at least the meshes (> 10 MB with MeshLab loaded) and at most the process peak.
+  const size_t perStage = json.find("\"peak_memory_mb_per_stage\"");
+  ASSERT_NE(perStage, std::string::npos) << json;
+  const std::string stages = json.substr(perStage, json.find('}', perStage) - perStage);
+  for (const char* k : {"quad_simplification", "fit", "tessellate", "bake", "metrics"}) {
+    const double mb = JsonNumber(stages, k);
+    EXPECT_GT(mb, 10) << k << ": " << stages;
+    EXPECT_LE(mb, JsonNumber(json, "peak_memory_mb") + 1e-6) << k << ": " << stages;
+  }
   // Errors are finite and ordered: displacement restores detail.
   EXPECT_LT(JsonNumber(json, "rms_displaced_permille"), JsonNumber(json, "rms_limit_permille"));
   EXPECT_LT(JsonNumber(json, "unprojectable_pct"), 5.0);

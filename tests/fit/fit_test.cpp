@@ -305,7 +305,7 @@ TEST(CCFit, ReportJsonParsesAndAgrees) {
   FitBakeResult r = FitAndBake(q, ref, scene);
   ASSERT_TRUE(r.error.empty()) << r.error;
   const std::string path = testsupport::ScratchDir() + "/report.json";
-  ASSERT_EQ(WriteReportJson(path, r, {{"fitmaps", 1.5}}), "");
+  ASSERT_EQ(WriteReportJson(path, r, {{"fitmaps", 1.5}}, {{"fitmaps", 321.0}}), "");
   std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -334,6 +334,17 @@ TEST(CCFit, ReportJsonParsesAndAgrees) {
   EXPECT_EQ(j.obj["displacement_fit"].type, Json::Bool);
   EXPECT_EQ(j.obj["displacement_fit"].num, r.displacementFit.fitted ? 1.0 : 0.0);
   EXPECT_NEAR(num("peak_memory_mb"), r.peakMemoryMb, 1e-6);
+  // Per-stage peaks: the caller's earlier stages first, then fit / tessellate / bake / metrics;
+  // each at most the process peak and above the memory the test's meshes take (> 1 MB).
+  ASSERT_EQ(j.obj["peak_memory_mb_per_stage"].type, Json::Obj);
+  auto& ms = j.obj["peak_memory_mb_per_stage"].obj;
+  EXPECT_EQ(ms["fitmaps"].num, 321.0);
+  ASSERT_EQ(r.memory.size(), 4u);
+  for (const auto& m : r.memory) {
+    EXPECT_NEAR(ms[m.first].num, m.second, 1e-6) << m.first;
+    EXPECT_GT(m.second, 1.0) << m.first;
+    EXPECT_LE(m.second, r.peakMemoryMb + 1e-9) << m.first;
+  }
   ASSERT_EQ(j.obj["time_s"].type, Json::Obj);
   auto& ts = j.obj["time_s"].obj;
   EXPECT_NEAR(ts["total"].num, r.totalSeconds + 1.5, 1e-6);

@@ -1,6 +1,6 @@
+#include "vcg_ext/core/memory.h"
 #include "vcg_ext/fit/bake.h"
 
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -911,6 +911,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.fit = FitCatmullClark(control, ref, scene, p.fit, nullptr);
   if (!r.fit.error.empty()) { r.error = r.fit.error; return r; }
   r.times.emplace_back("fit", r.fit.seconds);
+  r.memory.emplace_back("fit", StagePeakMemoryMb());
   prog(50, "Fit and bake: tessellating", true);
   const double diag = BBoxDiagonal(ref.V);
   const double maxDist = p.maxDistPercent / 100.0 * diag;
@@ -921,6 +922,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.limit = TessellateLimit(ls, ctrl, p.limitSegments);
   r.limit.quality = SignedDistanceToReference(r.limit.mesh.V, scene, std::numeric_limits<double>::infinity());
   r.times.emplace_back("tessellate", Since(t));
+  r.memory.emplace_back("tessellate", StagePeakMemoryMb());
   prog(60, "Fit and bake: baking displacement", true);
   t = Clock::now();
   if (p.textureResolution > 0 || !p.adaptiveTiles)
@@ -937,6 +939,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.displaced = DisplacedSurface(ls, ctrl, r.atlas, p.limitSegments);
   r.displaced.quality = SignedDistanceToReference(r.displaced.mesh.V, scene, std::numeric_limits<double>::infinity());
   r.times.emplace_back("bake", Since(t));
+  r.memory.emplace_back("bake", StagePeakMemoryMb());
   if (p.computeMetrics) {
     prog(75, "Fit and bake: measuring", true);
     t = Clock::now();
@@ -964,6 +967,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
     r.metrics.limitFolds = FoldedTriangles(dense);
     r.metrics.unprojectablePct = UnprojectablePercent(dense, ref, scene, maxDist);
     r.times.emplace_back("metrics", Since(t));
+    r.memory.emplace_back("metrics", StagePeakMemoryMb());
   }
   r.totalSeconds = Since(t0);
   // Set-up between the timed stages (limit surface, scenes): its own entry, so that the stages
@@ -972,8 +976,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   for (const auto& st : r.times) staged += st.second;
   r.times.emplace_back("fit_setup", std::max(0.0, r.totalSeconds - staged));
   r.totalSeconds = staged + r.times.back().second;
-  struct rusage ru;
-  if (getrusage(RUSAGE_SELF, &ru) == 0) r.peakMemoryMb = ru.ru_maxrss / 1024.0;
+  r.peakMemoryMb = ProcessPeakMemoryMb();
   r.warnings = ResultWarnings(r);
   prog(100, "Fit and bake: done", true);
   return r;

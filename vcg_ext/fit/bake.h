@@ -237,7 +237,10 @@ struct FitBakeResult {
   FitMetrics metrics;
   std::vector<std::pair<std::string, double>> times;  ///< seconds per stage, in order
   double totalSeconds = 0;
-  double peakMemoryMb = 0;        ///< process peak RSS (getrusage) at the end
+  double peakMemoryMb = 0;        ///< process peak RSS at the end (ProcessPeakMemoryMb)
+  /// peak RSS (MB) of the stages fit, tessellate, bake, metrics (StagePeakMemoryMb; the first
+  /// includes whatever ran since the caller's last StagePeakMemoryMb)
+  std::vector<std::pair<std::string, double>> memory;
   int referenceVertices = 0, referenceFaces = 0;
   /// What the user should know about an otherwise valid result (ResultWarnings): also in the
   /// report's "warnings" list and, from the filter, in the log.

@@ -213,7 +213,8 @@ std::string WriteQuadPly(const std::string& path, const QuadData& q) {
   return WritePly(path, q.V, F, nullptr);
 }
 
-std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::string, double>>& extraTimes) {
+std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::string, double>>& extraTimes,
+                       const std::vector<std::pair<std::string, double>>& extraMemory) {
   std::ostringstream o;
   if (!r.error.empty()) {
     o << "{\n  \"error\": \"" << Esc(r.error) << "\"\n}\n";
@@ -254,6 +255,11 @@ std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::
   put("total", total);
   o << "\n  },\n"
     << "  \"peak_memory_mb\": " << Num(r.peakMemoryMb) << ",\n"
+    << "  \"peak_memory_mb_per_stage\": {";
+  first = true;
+  for (const auto& m : extraMemory) put(m.first, m.second);
+  for (const auto& m : r.memory) put(m.first, m.second);
+  o << "\n  },\n"
     << "  \"reference_vertices\": " << r.referenceVertices << ",\n"
     << "  \"reference_faces\": " << r.referenceFaces << ",\n"
     << "  \"samples\": " << r.fit.samples << ",\n"
@@ -275,10 +281,11 @@ std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::
 }
 
 std::string WriteReportJson(const std::string& path, const FitBakeResult& r,
-                            const std::vector<std::pair<std::string, double>>& extraTimes) {
+                            const std::vector<std::pair<std::string, double>>& extraTimes,
+                            const std::vector<std::pair<std::string, double>>& extraMemory) {
   std::ofstream o(path);
   if (!o) return "cannot open " + path + " for writing";
-  o << ReportJson(r, extraTimes);
+  o << ReportJson(r, extraTimes, extraMemory);
   return o ? "" : "write error on " + path;
 }
 

@@ -46,10 +46,12 @@ std::string WritePlyWithQuality(const std::string& path, const TriData& m, const
 /// rms/max limit and displaced errors (permille of the bbox diagonal, per reference vertex),
 /// time_s per stage + total, peak_memory_mb, and details (samples, iterations, RMS per
 /// iteration, texture size). `extraTimes` are prepended to time_s (e.g. the pipeline's earlier
-/// stages) and included in total.
+/// stages) and included in total; `extraMemory` likewise to peak_memory_mb_per_stage.
 std::string WriteReportJson(const std::string& path, const FitBakeResult& r,
-                            const std::vector<std::pair<std::string, double>>& extraTimes = {});
+                            const std::vector<std::pair<std::string, double>>& extraTimes = {},
+                            const std::vector<std::pair<std::string, double>>& extraMemory = {});
 /// The same JSON as a string.
-std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::string, double>>& extraTimes = {});
+std::string ReportJson(const FitBakeResult& r, const std::vector<std::pair<std::string, double>>& extraTimes = {},
+                       const std::vector<std::pair<std::string, double>>& extraMemory = {});
 
 }  // namespace vcgext

@@ -1,0 +1,25 @@
+#pragma once
+/// \file memory.h
+/// Peak resident memory per stage (issue 12: "report peak memory per stage"). Linux keeps one
+/// high-water mark per process (VmHWM); writing "5" to /proc/self/clear_refs resets it, so the
+/// peak of a stage is the mark read at its end after a reset at its start. The whole-process
+/// peak is remembered here across resets (getrusage's ru_maxrss is reset with the mark).
+/// Elsewhere, or where the reset is not allowed, every stage reports the process peak so far.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vcgext {
+
+/// Peak resident memory (MB) since the last StagePeakMemoryMb() call (or process start), and
+/// starts a new stage. Not thread-safe with respect to other stage bookkeeping: call it from
+/// the thread that runs the stages.
+double StagePeakMemoryMb();
+
+/// Largest resident memory (MB) the process has had, across all stages.
+double ProcessPeakMemoryMb();
+
+/// Per stage: name and peak resident memory in MB.
+using StageMemory = std::vector<std::pair<std::string, double>>;
+
+}  // namespace vcgext
