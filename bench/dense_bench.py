@@ -96,10 +96,12 @@ def main():
         rep = runs[0][2]
         med = lambda key: statistics.median(r[2][key] for r in runs)
         stages = {k: statistics.median(r[2]["time_s"][k] for r in runs) for k in rep["time_s"]}
+        mem = {k: statistics.median(r[2]["peak_memory_mb_per_stage"][k] for r in runs)
+               for k in rep.get("peak_memory_mb_per_stage", {})}
         rows.append(dict(level=level, tris=rep["reference_faces"], wall=statistics.median(r[0] for r in runs),
                          peak=statistics.median(r[1] for r in runs), patches=med("patches"),
                          irregular=med("irregular_vertices"), unp=med("unprojectable_pct"),
-                         L=med("rms_limit_permille"), D=med("rms_displaced_permille"), stages=stages))
+                         L=med("rms_limit_permille"), D=med("rms_displaced_permille"), stages=stages, mem=mem))
     load = os.getloadavg()
     print(f"Dense-scan benchmark {time.strftime('%Y-%m-%d %H:%M')}, {os.cpu_count()} cores, load average "
           f"{load[0]:.2f} / {load[1]:.2f} / {load[2]:.2f} (1 / 5 / 15 min) at the end; tau {a.tau} %; "
@@ -111,6 +113,9 @@ def main():
         st = ", ".join(f"{k} {v:.1f}" for k, v in r["stages"].items() if k != "total" and v >= 0.05)
         print(f"{'x' + str(4 ** r['level']):<12}{r['tris']:>10}{r['wall']:>8.1f}{r['peak']:>9.0f}{r['patches']:>8.0f}"
               f"{r['irregular']:>7.0f}{r['unp']:>7.3f}{r['L']:>7.3f}{r['D']:>8.4f}  {st}")
+    print("Peak resident memory per stage of meshlabserver (MB; report.json peak_memory_mb_per_stage):")
+    for r in rows:
+        print(f"  x{4 ** r['level']}: " + ", ".join(f"{k} {v:.0f}" for k, v in r["mem"].items()))
     base = next((r for r in rows if r["level"] == 0), None)
     if base:
         print("Quality targets against x1 (patches and RMS L within 15 %, unprojectable <= 0.1 %, RMS D <= 0.08):")

@@ -42,6 +42,7 @@ inline const char* kWorkingFaces = "workingFaces";        ///< int, triangles of
 inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)
 inline const char* kLimitSegments = "limitSegments";      ///< int, N per patch side
 inline const char* kTextureResolution = "textureResolution";  ///< int, R per tile side, 0 = auto
+inline const char* kMaxTexels = "maxTexels";  ///< int, cap of the automatic atlas budget, 0 = none
 inline const char* kNormalMap = "normalMap";              ///< bool
 inline const char* kMaxDistPerc = "maxDistPerc";          ///< float, % of bbox diagonal
 inline const char* kFitIterations = "fitIterations";      ///< int

@@ -34,6 +34,10 @@ void InitFitParams(MeshDocument& md, RichParameterList& par) {
                        "Texels per patch side of the displacement atlas, the same for every patch; "
                        "0 = automatic (total samples about the number of reference vertices, as in "
                        "the paper)."));
+  par.addParam(RichInt(param::kMaxTexels, d.maxTexels, "Texel budget cap",
+                       "With automatic R: at most this many texels in the atlas (the budget is "
+                       "otherwise one texel per reference vertex, as in the paper); the default "
+                       "4194304 is a 2048 x 2048 texture. 0 = no cap."));
   par.addParam(RichBool(param::kAdaptiveTiles, d.adaptiveTiles, "Tile size per patch",
                         "With automatic R: each patch gets its own tile size (3, 5, 9, 17, 33 or 65 "
                         "texels), so that the texel spacing is about even over the surface (large "
@@ -92,6 +96,8 @@ bool ApplyFit(GlueContext& ctx) {
   p.normalMap = ctx.par.getBool(param::kNormalMap);
   p.fitDisplacement = ctx.par.getBool(param::kFitDisplacement);
   p.adaptiveTiles = ctx.par.getBool(param::kAdaptiveTiles);
+  p.maxTexels = ctx.par.getInt(param::kMaxTexels);
+  if (p.maxTexels < 0) return ctx.Fail("the texel budget cap must be 0 (none) or positive");
   p.maxDistPercent = ctx.par.getFloat(param::kMaxDistPerc);
   p.fit.maxIterations = ctx.par.getInt(param::kFitIterations);
   p.fit.smoothWeight = ctx.par.getFloat(param::kSmoothWeight);

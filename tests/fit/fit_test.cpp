@@ -518,6 +518,28 @@ TEST(CCFit, AutoTextureResolutionFollowsThePaperWithAFloor) {
   EXPECT_EQ(vcgext::AutoTextureResolution(10, 0), vcgext::kMinAutoTextureResolution);
 }
 
+// The atlas budget (one texel per reference vertex) is capped at FitBakeParams::maxTexels: the
+// atlas stays within the cap (adaptive tiles round their sizes down to 3, 5, 9, ... texels, and
+// every patch keeps at least the 8 x 8 floor), and fewer texels cost displaced accuracy.
+TEST(CCFit, TexelBudgetCapHoldsAndCostsAccuracy) {
+  TriData ref = BumpySphere(5, 0.02);  // 10242 vertices
+  EmbreeScene scene(ref);
+  QuadData q = CubeSphere(3, 0.0, 1);  // 54 patches: floor 54 * 64 = 3456 texels
+  vcgext::FitBakeParams p;
+  FitBakeResult full = FitAndBake(q, ref, scene, p);
+  ASSERT_TRUE(full.error.empty()) << full.error;
+  EXPECT_GT(full.atlas.Samples(), 0.6 * double(ref.V.size()));
+  p.maxTexels = int(ref.V.size()) / 2;
+  FitBakeResult capped = FitAndBake(q, ref, scene, p);
+  ASSERT_TRUE(capped.error.empty()) << capped.error;
+  EXPECT_LE(capped.atlas.Samples(), p.maxTexels);
+  EXPECT_LT(capped.atlas.Samples(), full.atlas.Samples());
+  EXPECT_GT(capped.metrics.rmsDisplacedPermille, full.metrics.rmsDisplacedPermille);
+  EXPECT_DOUBLE_EQ(capped.metrics.rmsLimitPermille, full.metrics.rmsLimitPermille);  // the fit is the same
+  p.maxTexels = -1;
+  EXPECT_NE(FitAndBake(q, ref, scene, p).error, "");
+}
+
 // control.ply is what users open in MeshLab, whose PLY importer fans every polygon from its first
 // corner. Two quads with the same opposite corners (0 and 2) must not both be fanned along 0-2.
 TEST(FitIo, QuadPlyReimportsAsTheSameQuads) {

@@ -904,7 +904,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.referenceVertices = int(ref.V.size());
   r.referenceFaces = int(ref.F.size());
   if (p.limitSegments < 1 || p.textureResolution < 0 || p.textureResolution == 1 || p.maxDistPercent <= 0 ||
-      p.metricSegments < 0) {
+      p.metricSegments < 0 || p.maxTexels < 0) {
     r.error = "invalid parameters (limit segments >= 1, texture resolution 0 (auto) or >= 2, positive distance)";
     return r;
   }
@@ -925,14 +925,16 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.memory.emplace_back("tessellate", StagePeakMemoryMb());
   prog(60, "Fit and bake: baking displacement", true);
   t = Clock::now();
+  // the paper's budget, one texel per reference vertex, up to the cap
+  const int budgetVertices = p.maxTexels > 0 ? std::min(r.referenceVertices, p.maxTexels) : r.referenceVertices;
   if (p.textureResolution > 0 || !p.adaptiveTiles)
     UniformAtlasLayout(r.atlas, ls.NumFaces(),
                        p.textureResolution > 0 ? p.textureResolution
-                                               : AutoTextureResolution(r.referenceVertices, ls.NumFaces()));
+                                               : AutoTextureResolution(budgetVertices, ls.NumFaces()));
   else
     AdaptiveAtlasLayout(r.atlas, AdaptiveTileResolutions(PatchAreas(r.limit, ls.NumFaces()),
                                                          PatchVertexCounts(r.limit, ls.NumFaces(), ref),
-                                                         AutoTextureBudget(r.referenceVertices, ls.NumFaces())));
+                                                         AutoTextureBudget(budgetVertices, ls.NumFaces())));
   BakeDisplacement(ls, ctrl, ref, scene, maxDist, p.normalMap, r.atlas);
   if (p.fitDisplacement)
     r.displacementFit = FitDisplacement(ls, ctrl, ref, p.limitSegments, maxDist, p.displacementFit, r.atlas);

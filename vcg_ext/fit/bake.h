@@ -218,6 +218,11 @@ struct FitBakeParams {
   int limitSegments = 8;          ///< N: output limit layer tessellation per patch side
   int textureResolution = 0;      ///< R per tile side (uniform tiles); 0 = automatic
   bool adaptiveTiles = true;      ///< automatic R: per-patch tiles by area (AdaptiveTileResolutions); false: the paper's one R
+  /// Automatic R: the atlas budget (one texel per reference vertex, the paper's) is capped at this
+  /// many texels (0 = no cap). Default 2048² = 4 194 304: a 16-bit PNG of 8 MB, and the
+  /// displacement fit's system stays at millions of unknowns; scans above ~8 M triangles reach it
+  /// (docs/multires.md "Atlas cap" measures what the displaced error costs there).
+  int maxTexels = 2048 * 2048;
   bool normalMap = false;         ///< also bake the normal map
   double maxDistPercent = 10.0;   ///< max displacement / projection distance, % bbox diagonal
   int metricSegments = 0;         ///< tessellation used for the limit error / projectability; 0 = auto
