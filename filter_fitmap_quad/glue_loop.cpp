@@ -176,7 +176,6 @@ bool ApplyLoopCurvature(GlueContext& ctx) {
   MeshModel& m = *ctx.md.mm();
   vcgext::LoopSurfaceParams sp;
   if (!ReadSurfaceParams(ctx, m.cm, sp)) return false;
-  sp.maxValence = vcgext::LoopSurfaceParams::kCurvatureMaxValence;  // no refinement: seconds up to here
   const int kind = ctx.par.getEnum(param::kCurvatureKind);
   if (kind < 0 || kind > 4) return ctx.Fail("unknown curvature kind");
   // The layer is read (and its face references checked) before copying it: a corrupt file's

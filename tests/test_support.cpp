@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -91,6 +92,28 @@ std::string ScratchDir() {
     dir = d ? d : "/tmp";
   }
   return dir;
+}
+
+/// UV sphere: n longitudes, m latitude bands, one vertex per pole (valence n), outward faces.
+vcgext::TriData UvSphere(int n, int m) {
+  vcgext::TriData t;
+  t.V.push_back(vcgext::Vec3(0, 0, 1));
+  for (int i = 1; i < m; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double th = M_PI * i / m, ph = 2 * M_PI * j / n;
+      t.V.push_back(vcgext::Vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)));
+    }
+  t.V.push_back(vcgext::Vec3(0, 0, -1));
+  const int south = int(t.V.size()) - 1;
+  auto ring = [&](int i, int j) { return 1 + (i - 1) * n + (j % n); };
+  for (int j = 0; j < n; ++j) t.F.push_back({0, ring(1, j), ring(1, j + 1)});
+  for (int i = 1; i + 1 < m; ++i)
+    for (int j = 0; j < n; ++j) {
+      t.F.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      t.F.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    }
+  for (int j = 0; j < n; ++j) t.F.push_back({south, ring(m - 1, j + 1), ring(m - 1, j)});
+  return t;
 }
 
 }  // namespace testsupport

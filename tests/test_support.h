@@ -22,6 +22,8 @@ vcgext::TriData HeightField(int nx, int ny, double size, F f) {
 }
 /// Icosphere of radius r with `level` 1:4 subdivisions (20·4^level triangles).
 vcgext::TriData Icosphere(int level, double r = 1.0);
+/// UV sphere: n longitudes, m latitude bands, one vertex per pole (valence n), outward faces.
+vcgext::TriData UvSphere(int n, int m);
 /// Arrays -> vcg mesh (for testing the templated vcg entry points).
 void ToVcg(const vcgext::TriData& d, vcgext::TMesh& m);
 /// A scratch directory unique to this test process.

@@ -367,10 +367,13 @@ TEST(LoopSnap, OffsetAlongNormalReturnsThePoint) {
   EXPECT_GE(conv, total * 9 / 10);  // measured 96%: the converged flag is too strict (see docs)
 }
 
+// fandisk, and a UV sphere with poles of valence 300: the snaps round such a pole started at a
+// corner's face walked across hundreds of sliver faces (issue 16: over 100 s for 20k triangles
+// at valence 500; now they start at the control net's closest point).
 TEST(LoopRefine, VerticesOnLimitSurfaceAndValid) {
-  TriData m = testsupport::LoadSample("fandisk.off");
+  for (const TriData& m : {testsupport::LoadSample("fandisk.off"), testsupport::UvSphere(300, 8)}) {
   LoopSurface s(m);
-  ASSERT_TRUE(s.Ok());
+  ASSERT_TRUE(s.Ok()) << s.Error();
   for (auto mode : {vcgext::LoopRefineParams::Mode::Uniform, vcgext::LoopRefineParams::Mode::Adaptive}) {
     vcgext::LoopRefineParams rp;
     rp.mode = mode;
@@ -396,6 +399,7 @@ TEST(LoopRefine, VerticesOnLimitSurfaceAndValid) {
     EXPECT_EQ(bad, 0);
     long E = long(he.size()) / 2;
     EXPECT_EQ(long(r.mesh.V.size()) - E + long(r.mesh.F.size()), 2);
+  }
   }
 }
 

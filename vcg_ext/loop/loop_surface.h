@@ -59,16 +59,11 @@ struct LoopSurfaceParams {
   /// Maximum local subdivision depth before the paper's nudge (Fig. 8 uses 25).
   int maxDepth = 25;
   /// Nets with a vertex of higher valence are refused with a clear error. Near an extraordinary
-  /// vertex an evaluation subdivides its whole ring (local nets of ~valence vertices), and the
-  /// limit curvature of Loop surfaces grows without bound there, so adaptive refinement and the
-  /// closest-point search crowd round such a vertex. Measured (2026-12-01, 2 cores): refinement
-  /// to 100k triangles of a UV sphere with poles of valence 32 / 64 / 128 takes 0.5 / 0.9 / 3.7 s,
-  /// with poles of valence 500 over 100 s for 20k triangles; building the surface and evaluating
-  /// curvature at every vertex stays at seconds up to valence 2000 (a cone's apex: 4.8 s), so
-  /// "Loop Surrogate: Curvature" raises the limit to kCurvatureMaxValence. 0 = no limit.
-  int maxValence = 128;
-  /// The limit "Loop Surrogate: Curvature" uses (see maxValence).
-  static constexpr int kCurvatureMaxValence = 2048;
+  /// vertex an evaluation subdivides its whole ring (local nets of ~valence vertices), so building
+  /// the surface costs O(valence²) round it. Measured (2026-12-01, 2 cores): a cone's apex of
+  /// valence 2000 builds in 4.1 s and refines to 100k triangles in 4.3 s; UV-sphere poles of
+  /// valence 500 in 0.4 s + 0.4 s (docs/robustness.md). 0 = no limit.
+  int maxValence = 2048;
 };
 
 /// Everything an evaluation returns. Derivatives are with respect to (v, w).

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <unordered_set>
 
+#include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/progress.h"
 
 namespace vcgext {
@@ -158,8 +159,9 @@ struct Refiner {
   std::vector<std::array<int, 3>> opp;
   std::vector<std::array<unsigned char, 3>> hard;
   std::unordered_set<uint64_t> edges;
+  EmbreeScene netScene;  ///< the control net: where a snap starts (see Average)
 
-  explicit Refiner(const LoopSurface& surf) : s(surf), net(surf.Net()) {}
+  explicit Refiner(const LoopSurface& surf) : s(surf), net(surf.Net()), netScene(surf.Net()) {}
 
   static uint64_t Key(int a, int b) {
     if (a > b) std::swap(a, b);
@@ -209,7 +211,10 @@ struct Refiner {
     Vec3 c = Vec3::Zero();
     for (int i = 0; i < nvs; ++i) c += P[vs[i]];
     c /= nvs;
-    LoopSnapResult r = SnapToLoopSurface(s, c, nullptr, pf[vs[0]], pv[vs[0]], pw[vs[0]]);
+    // Start at the control net's closest point, not at a corner's face: round a vertex of high
+    // valence the corners can lie many sliver faces apart, and Newton would walk across each
+    // (poles of valence 500: ~300 evaluations per snap, each subdividing the whole ring).
+    LoopSnapResult r = SnapToLoopSurface(s, c, &netScene, -1, 0, 0);
     face = r.face;
     v = r.v;
     w = r.w;
