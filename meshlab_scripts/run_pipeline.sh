@@ -64,7 +64,15 @@ start=$(date +%s.%N)
 if ! "$REPO/scripts/meshlabserver.sh" -i "$INPUT" -o "$OUTDIR/fitmap.ply" -l 0 -m vq vc \
      -o "$OUTDIR/limit.ply" -l 3 -m vq vc -o "$OUTDIR/displaced.ply" -l 4 -m vq vc \
      -s "$mlx" > "$OUTDIR/meshlab.log" 2>&1; then
-  grep -E "Error|error" "$OUTDIR/meshlab.log" | grep -v "trying to save" | sort -u >&2 || tail -30 "$OUTDIR/meshlab.log" >&2
+  if ! grep -q "loaded has" "$OUTDIR/meshlab.log"; then
+    # MeshLab 2020.09's own readers crash on some valid files (an OFF with comment lines inside
+    # its data, some OBJ/PLY variants) before any filter runs: say so instead of a bare crash.
+    echo "run_pipeline: MeshLab could not read $INPUT: its file reader failed before any filter ran" \
+         "(MeshLab 2020.09's readers crash on some valid files, e.g. an OFF with comment lines among its" \
+         "vertices or faces); re-save the mesh (another format, or without comments) and run again" >&2
+  else
+    grep -E "Error|error" "$OUTDIR/meshlab.log" | grep -v "trying to save" | sort -u >&2 || tail -30 "$OUTDIR/meshlab.log" >&2
+  fi
   echo "run_pipeline: meshlabserver failed (full log: $OUTDIR/meshlab.log)" >&2
   exit 1
 fi
