@@ -136,7 +136,8 @@ TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
   w = vcgext::PrepareWorkingCopy(bowtie);
   EXPECT_EQ(w.nonManifoldEdges, 0);
   EXPECT_EQ(w.nonManifoldVertices, 1);
-  EXPECT_NE(w.error.find("1 vertex joins"), std::string::npos) << w.error;
+  EXPECT_NE(w.error.find("the mesh is non-manifold: 1 vertex joins"), std::string::npos) << w.error;
+  EXPECT_EQ(w.error.find("0 edges"), std::string::npos) << w.error;  // only the kinds present
 }
 
 TEST(InputPrep, FarFromOriginWarnsAndAllDegenerateFails) {

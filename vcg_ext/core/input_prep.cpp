@@ -234,10 +234,14 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   for (size_t id = 0; id + 1 < e.offs.size(); ++id) w.nonManifoldEdges += e.offs[id + 1] - e.offs[id] > 2;
   w.nonManifoldVertices = CountNonManifoldVertices(F, e, n);
   if (w.nonManifoldEdges || w.nonManifoldVertices) {
-    w.error = "the mesh is non-manifold: " + Plural(w.nonManifoldEdges, "edge is", "edges are") +
-              " shared by more than two triangles and " +
-              Plural(w.nonManifoldVertices, "vertex joins", "vertices join") +
-              " separate pieces of surface; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
+    // only the kinds present: "0 edges are shared ..." reads like a contradiction
+    std::string what;
+    if (w.nonManifoldEdges)
+      what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
+    if (w.nonManifoldVertices)
+      what += (what.empty() ? "" : " and ") + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") +
+              " separate pieces of surface";
+    w.error = "the mesh is non-manifold: " + what + "; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
               "Edges and Repair non Manifold Vertices, then run this filter again";
     return w;
   }
