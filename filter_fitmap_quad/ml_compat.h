@@ -11,6 +11,7 @@
 
 #if FITMAP_MESHLAB_API >= 2022
 #include <common/plugins/interfaces/filter_plugin.h>
+#include <QFileInfo>
 #include <QImage>
 #else
 #include <common/interfaces.h>
@@ -66,11 +67,13 @@ inline void UpdateBoxAndNormals(MeshModel& m) {
 #endif
 }
 
-/// Attaches the texture file `path` to the layer. 2020.09 loads it from cm.textures; 2022.02+
-/// keeps the image in the MeshModel too (saving the layer needs it there).
+/// Attaches the texture file `path` to the layer. 2020.09 loads it from cm.textures (the full
+/// path); 2022.02+ keeps the image in the MeshModel under its file name, which is what saving
+/// the layer writes next to the mesh (and what the .mtl names).
 inline void AddTexture(MeshModel& m, const std::string& path) {
 #if FITMAP_MESHLAB_API >= 2022
-  m.addTexture(path, QImage(QString::fromStdString(path)));
+  const QString file = QString::fromStdString(path);
+  m.addTexture(QFileInfo(file).fileName().toStdString(), QImage(file));
 #else
   m.cm.textures.push_back(path);
 #endif

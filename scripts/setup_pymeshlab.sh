@@ -81,7 +81,9 @@ fi
 if grep -q 'warning:' "$BUILD/build.log"; then log "build has warnings:"; grep 'warning:' "$BUILD/build.log" | sort -u | head -20 >&2; fi
 
 # ------------------------------------------------------------------ 4. into PyMeshLab's plugins
-cp "$BUILD/libfilter_fitmap_quad.so" "$PYML/lib/plugins/libfilter_fitmap_quad.so"
+# copy, then rename: a PyMeshLab process that has the old file mapped keeps it intact
+cp "$BUILD/libfilter_fitmap_quad.so" "$PYML/lib/plugins/.libfilter_fitmap_quad.so.new"
+mv -f "$PYML/lib/plugins/.libfilter_fitmap_quad.so.new" "$PYML/lib/plugins/libfilter_fitmap_quad.so"
 "$VENV/bin/python" - <<'EOF' || { log "PyMeshLab does not load the plugin"; exit 1; }
 import pymeshlab
 ms = pymeshlab.MeshSet()
