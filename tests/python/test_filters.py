@@ -42,7 +42,8 @@ def test_fitmaps_on_bunny(bunny_path):
     ms.compute_scalar_by_fitmaps_per_vertex(numradii=9, tau=1.0)
     s = ms.current_mesh().vertex_scalar_array()
     assert s.shape == (n,) and np.all(np.isfinite(s)) and s.min() > 0
-    assert s.max() > 1.5 * np.percentile(s, 5)  # varies over the surface (ears vs back)
+    assert s.max() > 1.5 * s.min()  # varies over the surface (ears vs back): 0.88 .. 1.64 (1/length)
+    assert 0.8 < np.median(s) < 1.6
     assert ms.mesh_number() == 1  # the input layer only: Fitmaps are attributes
 
 
@@ -67,8 +68,15 @@ def test_loop_refine_on_an_icosahedron_meshes_the_limit_surface():
     m = ms.current_mesh()
     assert 1900 <= m.face_number() <= 2200
     r = np.linalg.norm(m.vertex_matrix(), axis=1)
-    # Loop's limit surface of the unit icosahedron lies inside its circumsphere, near a sphere
-    assert r.max() < 1.0 and r.min() > 0.8 and (r.max() - r.min()) < 0.05
+    # Loop's limit point of a valence-5 vertex v: (1 - 5 chi) v + chi * (sum of the 5 neighbours),
+    # chi = 1 / (3 / (8 beta) + 5), beta = (5/8 - (3/8 + cos(2 pi / 5) / 4)^2) / 5; the neighbours of
+    # a unit icosahedron's vertex sum to 5 v / sqrt(5): radius 1 - 5 chi (1 - 1/sqrt(5)) = 0.70781.
+    beta = (5 / 8 - (3 / 8 + np.cos(2 * np.pi / 5) / 4) ** 2) / 5
+    chi = 1 / (3 / (8 * beta) + 5)
+    r_vertex = 1 - 5 * chi * (1 - 1 / np.sqrt(5))
+    assert abs(r_vertex - 0.70781) < 1e-5
+    assert np.sum(np.abs(r - r_vertex) < 1e-6) >= 12  # the control vertices' limit points
+    assert r.max() < r_vertex + 1e-6 and r.min() > 0.69  # the rest of the surface: slightly inside
 
 
 def test_loop_snap_moves_points_onto_the_limit_surface():
@@ -91,10 +99,12 @@ def test_loop_curvature_of_a_sphere_is_positive():
     ms.compute_scalar_by_loop_surrogate_curvature_per_vertex(curvaturekind=0, creaseangle=0)
     h = ms.current_mesh().vertex_scalar_array()
     assert np.all(np.isfinite(h))
-    assert h.min() > 0.4 and h.max() < 0.6  # mean curvature of a radius-2 sphere: 1/2
+    # mean curvature of a radius-2 sphere: 1/2 (the limit surface is slightly inside the net: a bit
+    # more); Loop's limit curvature at the 12 valence-5 vertices is known to be off (0.61 here)
+    assert abs(np.median(h) - 0.5) < 0.01 and h.min() > 0.495 and h.max() < 0.65
     ms.compute_scalar_by_loop_surrogate_curvature_per_vertex(curvaturekind=1, creaseangle=0)
     k = ms.current_mesh().vertex_scalar_array()
-    assert k.min() > 0.15 and k.max() < 0.35  # Gaussian: 1/4
+    assert abs(np.median(k) - 0.25) < 0.01 and k.min() > 0.24  # Gaussian: 1/4
 
 
 def test_loop_curvature_on_bunny(bunny_path):
@@ -131,10 +141,13 @@ def test_bunny_pipeline_layers_files_and_report(bunny_pipeline):
 def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
     ms, _ = bunny_pipeline
     ms.set_current_mesh(2)
-    ms.save_current_mesh(str(tmp_path / "fitted.obj"))
-    assert (tmp_path / "fitted.obj").stat().st_size > 0
+    # MeshLab 2025.07's polygonal OBJ export drops per-wedge UVs and the map_Kd (save_polygonal=True
+    # wrote 3 'vt' lines for a whole layer): triangles keep them. control.obj has the real quads.
+    ms.save_current_mesh(str(tmp_path / "fitted.obj"), save_polygonal=False)
+    obj = (tmp_path / "fitted.obj").read_text()
+    assert obj.count("\nvt ") >= 3 * 2 * len(ms.mesh(1).polygonal_face_list()) // 2
     assert (tmp_path / "displacement.png").stat().st_size > 0
-    assert "displacement.png" in (tmp_path / "fitted.obj.mtl").read_text()
+    assert "map_Kd displacement.png" in (tmp_path / "fitted.obj.mtl").read_text()
 
 
 @pytest.mark.parametrize("call, message", [

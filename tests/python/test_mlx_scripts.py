@@ -55,7 +55,7 @@ def check_loop_snap(ms, tmp_path):
     ms.add_mesh(icosphere(2, radius=1.5), "points")
     run(ms, "loop_snap.mlx")
     r = np.linalg.norm(ms.current_mesh().vertex_matrix(), axis=1)
-    assert r.max() < 1.0 and r.min() > 0.8
+    assert r.max() < 1.0 and r.min() > 0.85  # onto the limit surface of the net (inside the unit sphere)
 
 
 def check_loop_curvature(ms, tmp_path):
