@@ -62,7 +62,7 @@ if [ ! -f "$SRC/src/common/plugins/interfaces/filter_plugin.h" ]; then
 fi
 
 # ------------------------------------------------------------------ 2. the virtual environment
-if ! "$VENV/bin/python" -c "import pymeshlab, pytest, sys; sys.exit(pymeshlab.__version__ != '$PYMESHLAB_VERSION')" 2>/dev/null; then
+if ! "$VENV/bin/python" -c "import sys; from importlib.metadata import version as v; sys.exit(v('pymeshlab') != '$PYMESHLAB_VERSION' or v('pytest') != '8.3.5')" 2>/dev/null; then
   log "creating $VENV (pymeshlab==$PYMESHLAB_VERSION from PyPI, pytest)"
   /usr/bin/python3 -m venv "$VENV"
   "$VENV/bin/pip" install -q "pymeshlab==$PYMESHLAB_VERSION" "pytest==8.3.5"
