@@ -91,3 +91,28 @@ def test_default_pipeline_close_to_meshlabserver(tmp_path):
     assert np.median(np.abs(s - ml_fitmap) / ml_fitmap) < 1e-4
     print("meshlabserver", {k: ml[k] for k in ["patches", "irregular_vertices", "rms_limit_permille", "rms_displaced_permille"]})
     print("pymeshlab    ", {k: py[k] for k in ["patches", "irregular_vertices", "rms_limit_permille", "rms_displaced_permille"]})
+
+
+NON_MANIFOLD = "OFF\n5 3 0\n0 0 0\n1 0 0\n0.5 1 0\n0.5 -1 0\n0.5 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n"
+
+
+@pytest.mark.parametrize("script, function", [
+    ("fitmaps.mlx", "compute_scalar_by_fitmaps_per_vertex"),
+    ("loop_curvature.mlx", "compute_scalar_by_loop_surrogate_curvature_per_vertex"),
+])
+def test_error_message_is_meshlabs(script, function, tmp_path):
+    # An edge in three triangles: the error PyMeshLab raises carries the text meshlabserver prints.
+    mesh = tmp_path / "non_manifold.off"
+    mesh.write_text(NON_MANIFOLD)
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(mesh))
+    with pytest.raises(pymeshlab.PyMeshLabException) as e:
+        getattr(ms, function)()
+    head, details = str(e.value).split("\nDetails: ")
+    assert head == f"Failed to apply filter: {function}"
+    assert "non-manifold" in details
+    assert ms.mesh_number() == 1 and not ms.current_mesh().has_vertex_scalar()
+    r = subprocess.run(["bash", str(REPO / "scripts" / "meshlabserver.sh"), "-i", str(mesh), "-s", str(SCRIPTS / script)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode != 0
+    assert details in r.stdout + r.stderr, (details, r.stdout[-2000:] + r.stderr[-2000:])
