@@ -1,5 +1,7 @@
 """The pipeline through PyMeshLab (2025.07 plugin, MESHLAB_SCALAR=double) against the same .mlx
-through Debian's meshlabserver (2020.09 plugin, float), i.e. the plugin installed by scripts/setup.sh.
+through Debian's meshlabserver (2020.09 plugin, float), i.e. the plugin installed by scripts/setup.sh:
+both must come from the same checkout (tests/run_all.sh sees to it); against a plugin installed from
+other sources the exact comparisons fail.
 
 Measured (bunny00, docs/meshlab2025.md): the Fitmaps are bit-identical on coordinates that float
 represents exactly, and the simplification from the full input (workingFaces=0) gives the same
