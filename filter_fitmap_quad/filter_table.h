@@ -4,6 +4,8 @@
 /// scripts and PyMeshLab call, so they never change once released.
 #include <QString>
 
+#include <vector>
+
 namespace fitmapquad {
 
 enum FilterId {
@@ -18,9 +20,14 @@ enum FilterId {
 struct FilterSpec {
   FilterId id;
   const char* name;   ///< menu entry and .mlx filter name
+  const char* pythonName;  ///< PyMeshLab's function name (2022.02+ plugin: pythonFilterName)
   const char* info;   ///< help text
-  int classes;        ///< MeshFilterInterface::FilterClass bits
+  int classes;        ///< MeshFilterInterface / FilterPlugin::FilterClass bits
 };
+
+/// Every filter, in menu order (filter_specs.cpp), and one by id (null if unknown).
+const std::vector<FilterSpec>& AllFilters();
+const FilterSpec* Spec(int id);
 
 /// Parameter names (public API), grouped by filter.
 namespace param {

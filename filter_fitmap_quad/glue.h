@@ -3,7 +3,7 @@
 /// What every filter's glue gets: the document, its parameters, the progress callback, a log
 /// sink and an error slot. Each filter's glue lives in its own glue_<feature>.cpp and only
 /// converts parameters -> Params, calls vcg_ext, reports.
-#include <common/interfaces.h>
+#include "ml_compat.h"
 
 #include <functional>
 #include <string>
@@ -50,24 +50,24 @@ constexpr int kMinWorkingFaces = 1000;
 constexpr int kMaxStartValence = 24;
 
 // Compute Fitmaps (glue_fitmaps.cpp)
-void InitFitmapsParams(MeshDocument& md, RichParameterList& par);
+void InitFitmapsParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyFitmaps(GlueContext& ctx);
 /// The tau the layer's FitmapS/FitmapM attributes were computed with (negative: none).
 double GetFitmapTau(CMeshO& m);
 void SetFitmapTau(CMeshO& m, double tau);
 
 // Fitmap Quad Simplification (glue_quad.cpp)
-void InitQuadParams(MeshDocument& md, RichParameterList& par);
+void InitQuadParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyQuad(GlueContext& ctx);
 // Fit Catmull-Clark Surface and Bake Displacement (glue_fit.cpp)
-void InitFitParams(MeshDocument& md, RichParameterList& par);
+void InitFitParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyFit(GlueContext& ctx);
 // Loop Surrogate: Refine Surface / Snap Points / Curvature (glue_loop.cpp)
-void InitLoopRefineParams(MeshDocument& md, RichParameterList& par);
+void InitLoopRefineParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyLoopRefine(GlueContext& ctx);
-void InitLoopSnapParams(MeshDocument& md, RichParameterList& par);
+void InitLoopSnapParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyLoopSnap(GlueContext& ctx);
-void InitLoopCurvatureParams(MeshDocument& md, RichParameterList& par);
+void InitLoopCurvatureParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyLoopCurvature(GlueContext& ctx);
 
 }  // namespace fitmapquad

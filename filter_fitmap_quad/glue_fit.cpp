@@ -18,14 +18,14 @@
 
 namespace fitmapquad {
 
-void InitFitParams(MeshDocument& md, RichParameterList& par) {
+void InitFitParams(const MeshDocument& md, RichParameterList& par) {
   const vcgext::FitBakeParams d;
   // Default reference: the first layer that is not the current one (the scan the control mesh
   // was built from comes first in the pipeline).
-  MeshModel* ref = md.mm();
-  for (MeshModel* m : md.meshList)
+  const MeshModel* ref = md.mm();
+  for (const MeshModel* m : Layers(md))
     if (m != md.mm()) { ref = m; break; }
-  par.addParam(RichMesh(param::kReferenceMesh, ref, &md, "Reference mesh",
+  par.addParam(MeshParam(param::kReferenceMesh, ref, md, "Reference mesh",
                         "The triangle mesh (scan) the limit surface is fitted to and the "
                         "displacement is measured from."));
   par.addParam(RichInt(param::kLimitSegments, d.limitSegments, "Limit tessellation (N)",
@@ -67,7 +67,7 @@ void InitFitParams(MeshDocument& md, RichParameterList& par) {
 
 bool ApplyFit(GlueContext& ctx) {
   MeshModel& control = *ctx.md.mm();
-  MeshModel* refModel = ctx.par.getMesh(param::kReferenceMesh);
+  MeshModel* refModel = GetMeshParam(ctx.md, ctx.par, param::kReferenceMesh);
   if (!refModel) return ctx.Fail("the reference layer is missing");
   if (refModel == &control)
     return ctx.Fail("the reference layer must be another layer than the control mesh (the current layer)");
@@ -146,8 +146,8 @@ bool ApplyFit(GlueContext& ctx) {
   MeshModel* fitted = ctx.md.addNewMesh("", base + " fitted", false);
   fitted->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.fit.control, fitted->cm, &r.atlas.wedgeUV);
-  fitted->cm.textures.push_back(png);
-  fitted->UpdateBoxAndNormals();
+  AddTexture(*fitted, png);
+  UpdateBoxAndNormals(*fitted);
   StageTimes all = earlier;
   for (const auto& t : r.times) all.push_back(t);
   SetStageTimes(fitted->cm, all);
@@ -166,7 +166,7 @@ bool ApplyFit(GlueContext& ctx) {
       range = std::max({std::abs(pr.first), std::abs(pr.second), 1e-12});
     }
     vcgext::ColorizeQualityRange(m->cm, -range, range);
-    m->UpdateBoxAndNormals();
+    UpdateBoxAndNormals(*m);
   };
   addSurface(r.limit, base + " limit");
   addSurface(r.displaced, base + " displaced");

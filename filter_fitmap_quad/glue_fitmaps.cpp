@@ -10,7 +10,7 @@
 
 namespace fitmapquad {
 
-void InitFitmapsParams(MeshDocument& /*md*/, RichParameterList& par) {
+void InitFitmapsParams(const MeshDocument& /*md*/, RichParameterList& par) {
   const vcgext::FitmapParams d;
   par.addParam(RichFloat(param::kTau, float(d.tauPercent), "Tolerance tau (%)",
                          "M-fitmap: largest tolerated share of flipped (un-hit) triangles in a "

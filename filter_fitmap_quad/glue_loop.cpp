@@ -70,7 +70,7 @@ void LogWorkingCopy(GlueContext& ctx, const std::string& prefix, const vcgext::L
 
 }  // namespace
 
-void InitLoopRefineParams(MeshDocument& /*md*/, RichParameterList& par) {
+void InitLoopRefineParams(const MeshDocument& /*md*/, RichParameterList& par) {
   const vcgext::LoopRefineParams d;
   par.addParam(RichEnum(param::kRefineMode, 0, QStringList() << "Adaptive (curvature)" << "Uniform",
                         "Refinement", "Adaptive: split where max principal curvature x area is "
@@ -100,7 +100,7 @@ bool ApplyLoopRefine(GlueContext& ctx) {
   LogWorkingCopy(ctx, "Loop Surrogate: Refine Surface: ", rep);
   MeshModel* m = ctx.md.addNewMesh("", net.label() + (interp ? " loop interpolated" : " loop refined"), true);
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(m->cm, out, false, true);
-  m->UpdateBoxAndNormals();
+  UpdateBoxAndNormals(*m);
   char buf[512];
   snprintf(buf, sizeof buf,
            "Loop Surrogate: Refine Surface (%s): %d -> %d triangles in %.2f s (%d passes, %d "
@@ -121,11 +121,11 @@ bool ApplyLoopRefine(GlueContext& ctx) {
   return true;
 }
 
-void InitLoopSnapParams(MeshDocument& md, RichParameterList& par) {
-  MeshModel* other = md.mm();
-  for (MeshModel* m : md.meshList)
+void InitLoopSnapParams(const MeshDocument& md, RichParameterList& par) {
+  const MeshModel* other = md.mm();
+  for (const MeshModel* m : Layers(md))
     if (m != md.mm() && m->cm.fn > 0) { other = m; break; }
-  par.addParam(RichMesh(param::kSurfaceMesh, other, &md, "Control net",
+  par.addParam(MeshParam(param::kSurfaceMesh, other, md, "Control net",
                         "The triangle layer whose Loop limit surface the current layer's vertices "
                         "are snapped onto."));
   AddSurfaceParams(par);
@@ -133,7 +133,7 @@ void InitLoopSnapParams(MeshDocument& md, RichParameterList& par) {
 
 bool ApplyLoopSnap(GlueContext& ctx) {
   MeshModel& pts = *ctx.md.mm();
-  MeshModel* net = ctx.par.getMesh(param::kSurfaceMesh);
+  MeshModel* net = GetMeshParam(ctx.md, ctx.par, param::kSurfaceMesh);
   if (!net) return ctx.Fail("the control-net layer is missing");
   if (net == &pts) return ctx.Fail("the control net must be another layer than the points (the current layer)");
   vcgext::LoopSurfaceParams sp;
@@ -154,7 +154,7 @@ bool ApplyLoopSnap(GlueContext& ctx) {
     v.Q() = Scalarm(rep.distances[i]);
     ++i;
   }
-  pts.UpdateBoxAndNormals();
+  UpdateBoxAndNormals(pts);
   char buf[256];
   snprintf(buf, sizeof buf,
            "Loop Surrogate: Snap Points: %zu vertices moved onto the limit surface; distance mean "
@@ -164,7 +164,7 @@ bool ApplyLoopSnap(GlueContext& ctx) {
   return true;
 }
 
-void InitLoopCurvatureParams(MeshDocument& /*md*/, RichParameterList& par) {
+void InitLoopCurvatureParams(const MeshDocument& /*md*/, RichParameterList& par) {
   par.addParam(RichEnum(param::kCurvatureKind, 0,
                         QStringList() << "Mean" << "Gaussian" << "Max absolute" << "Min principal" << "Max principal",
                         "Curvature", "Which curvature of the limit surface goes to the vertex quality."));

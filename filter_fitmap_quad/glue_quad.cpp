@@ -15,7 +15,7 @@
 
 namespace fitmapquad {
 
-void InitQuadParams(MeshDocument& /*md*/, RichParameterList& par) {
+void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
   const vcgext::QuadSimplifyParams d;
   par.addParam(RichFloat(param::kTau, float(vcgext::FitmapParams().tauPercent), "Tolerance tau (%)",
                          "M-fitmap tolerance. The layer's Fitmaps are used when they were computed "
@@ -126,7 +126,7 @@ bool ApplyQuad(GlueContext& ctx) {
   MeshModel* out = ctx.md.addNewMesh("", name, true);
   out->updateDataMask(MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.quads, out->cm);
-  out->UpdateBoxAndNormals();
+  UpdateBoxAndNormals(*out);
   times.push_back({"tri_to_quad", r.secondsTriToQuad});
   times.push_back({"initial_fit", r.secondsInitialFit});
   times.push_back({"simplification", r.secondsSimplify});

@@ -39,7 +39,9 @@ if [ ! -f "$MESHLAB_SRC/src/common/interfaces.h" ]; then
     sed -n 's/^deb /deb-src /p' /etc/apt/sources.list > /etc/apt/sources.list.d/fitmap-deb-src.list; apt_updated=0
   fi
   apt_update
-  (cd "$DEPS" && apt-get source -q meshlab >/dev/null 2>&1)
+  # Pinned: with Debian unstable's deb-src entry (scripts/setup_pymeshlab.sh adds one for a moment)
+  # a bare `apt-get source meshlab` would fetch 2025.07.
+  (cd "$DEPS" && apt-get source -q meshlab=2020.09+dfsg1-2 >/dev/null 2>&1)
   [ -f "$MESHLAB_SRC/src/common/interfaces.h" ] || { log "MeshLab sources not found after apt-get source"; exit 1; }
 fi
 

@@ -1,0 +1,186 @@
+"""Each PyMeshLab function of the plugin on a small analytic mesh and on bunny00, outputs checked."""
+import json
+
+import numpy as np
+import pymeshlab
+import pytest
+
+from conftest import PYTHON_NAMES, assert_layers_equal, icosphere, layers_snapshot
+
+
+def test_every_filter_is_a_meshset_method_with_its_python_name():
+    names = set(pymeshlab.filter_list())
+    ms = pymeshlab.MeshSet()
+    for filt, py in PYTHON_NAMES.items():
+        assert py in names, f"{filt}: {py} not in pymeshlab.filter_list()"
+        assert callable(getattr(ms, py, None)), f"{filt}: MeshSet.{py} missing"
+    # the default names PyMeshLab would have made up must not exist
+    assert "compute_fitmaps" not in names and "loop_surrogate_curvature" not in names
+
+
+def test_fitmaps_on_a_sphere_are_uniform():
+    # A sphere looks the same at every vertex: both Fitmaps are (nearly) constant.
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(3), "sphere")
+    ms.compute_scalar_by_fitmaps_per_vertex()
+    s = ms.current_mesh().vertex_scalar_array()
+    assert s.shape == (642,) and np.all(np.isfinite(s)) and s.min() > 0
+    assert (s.max() - s.min()) / np.median(s) < 0.1
+    assert ms.current_mesh().has_vertex_color()
+    ms.compute_scalar_by_fitmaps_per_vertex(channel=1)  # M-fitmap: a radius
+    m = ms.current_mesh().vertex_scalar_array()
+    assert np.all(np.isfinite(m)) and m.min() > 0
+    diag = np.linalg.norm(np.ptp(ms.current_mesh().vertex_matrix(), axis=0))
+    assert m.max() <= 0.25 * diag * 1.0001  # the largest radius is 25 % of the diagonal
+    assert (m.max() - m.min()) / np.median(m) < 0.1
+
+
+def test_fitmaps_on_bunny(bunny_path):
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(bunny_path))
+    n = ms.current_mesh().vertex_number()
+    ms.compute_scalar_by_fitmaps_per_vertex(numradii=9, tau=1.0)
+    s = ms.current_mesh().vertex_scalar_array()
+    assert s.shape == (n,) and np.all(np.isfinite(s)) and s.min() > 0
+    assert s.max() > 1.5 * s.min()  # varies over the surface (ears vs back): 0.88 .. 1.64 (1/length)
+    assert 0.8 < np.median(s) < 1.6
+    assert ms.mesh_number() == 1  # the input layer only: Fitmaps are attributes
+
+
+def test_quad_simplification_on_a_sphere():
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(4), "sphere")
+    ms.generate_fitmap_quad_simplification()
+    assert ms.mesh_number() == 2 and ms.current_mesh_id() == 1
+    quads = ms.current_mesh().polygonal_face_list()
+    assert all(len(f) == 4 for f in quads)
+    assert 6 <= len(quads) <= 200
+    # a sphere's control mesh: closed, Euler characteristic 2 (V - E + F with E = 2F for quads)
+    assert ms.current_mesh().vertex_number() - len(quads) == 2
+    assert ms.mesh(0).face_number() == 5120  # input untouched
+
+
+def test_loop_refine_on_an_icosahedron_meshes_the_limit_surface():
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(0), "icosahedron")
+    ms.generate_loop_surrogate_refinement(targetfaces=2000, creaseangle=0, refinemode=1)
+    assert ms.mesh_number() == 2
+    m = ms.current_mesh()
+    assert 1900 <= m.face_number() <= 2200
+    r = np.linalg.norm(m.vertex_matrix(), axis=1)
+    # Loop's limit point of a valence-5 vertex v: (1 - 5 chi) v + chi * (sum of the 5 neighbours),
+    # chi = 1 / (3 / (8 beta) + 5), beta = (5/8 - (3/8 + cos(2 pi / 5) / 4)^2) / 5; the neighbours of
+    # a unit icosahedron's vertex sum to 5 v / sqrt(5): radius 1 - 5 chi (1 - 1/sqrt(5)) = 0.70781.
+    beta = (5 / 8 - (3 / 8 + np.cos(2 * np.pi / 5) / 4) ** 2) / 5
+    chi = 1 / (3 / (8 * beta) + 5)
+    r_vertex = 1 - 5 * chi * (1 - 1 / np.sqrt(5))
+    assert abs(r_vertex - 0.70781) < 1e-5
+    assert np.sum(np.abs(r - r_vertex) < 1e-6) >= 12  # the control vertices' limit points
+    assert r.max() < r_vertex + 1e-6 and r.min() > 0.69  # the rest of the surface: slightly inside
+
+
+def test_loop_snap_moves_points_onto_the_limit_surface():
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(1), "net")
+    ms.generate_loop_surrogate_refinement(targetfaces=5000, creaseangle=0, refinemode=1)
+    limit_r = np.linalg.norm(ms.current_mesh().vertex_matrix(), axis=1)
+    ms.add_mesh(icosphere(2, radius=1.5), "points")
+    ms.apply_loop_surrogate_snap_points(surfacemesh=0, creaseangle=0)
+    m = ms.current_mesh()
+    r = np.linalg.norm(m.vertex_matrix(), axis=1)
+    assert r.min() >= limit_r.min() - 1e-3 and r.max() <= limit_r.max() + 1e-3
+    d = m.vertex_scalar_array()  # distance moved
+    np.testing.assert_allclose(d, 1.5 - r, atol=1e-3)
+
+
+def test_loop_curvature_of_a_sphere_is_positive():
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(3, radius=2.0), "sphere")
+    ms.compute_scalar_by_loop_surrogate_curvature_per_vertex(curvaturekind=0, creaseangle=0)
+    h = ms.current_mesh().vertex_scalar_array()
+    assert np.all(np.isfinite(h))
+    # mean curvature of a radius-2 sphere: 1/2 (the limit surface is slightly inside the net: a bit
+    # more); Loop's limit curvature at the 12 valence-5 vertices is known to be off (0.61 here)
+    assert abs(np.median(h) - 0.5) < 0.01 and h.min() > 0.495 and h.max() < 0.65
+    ms.compute_scalar_by_loop_surrogate_curvature_per_vertex(curvaturekind=1, creaseangle=0)
+    k = ms.current_mesh().vertex_scalar_array()
+    assert abs(np.median(k) - 0.25) < 0.01 and k.min() > 0.24  # Gaussian: 1/4
+
+
+def test_loop_curvature_on_bunny(bunny_path):
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(bunny_path))
+    ms.compute_scalar_by_loop_surrogate_curvature_per_vertex()
+    h = ms.current_mesh().vertex_scalar_array()
+    assert np.all(np.isfinite(h))
+    assert np.median(h) > 0  # a closed-ish blob curves outwards on the whole
+    assert ms.current_mesh().has_vertex_color()
+
+
+def test_bunny_pipeline_layers_files_and_report(bunny_pipeline):
+    ms, out = bunny_pipeline
+    labels = [ms.mesh(i).label() for i in range(ms.mesh_number())]
+    assert labels == ["bunny00.off", "bunny00.off quads tau=1%", "bunny00.off quads tau=1% fitted",
+                      "bunny00.off quads tau=1% limit", "bunny00.off quads tau=1% displaced"]
+    assert ms.mesh(0).has_vertex_scalar()  # Fitmaps as the input's scalar
+    control = ms.mesh(1).polygonal_face_list()
+    assert all(len(f) == 4 for f in control)
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["patches"] == len(control)
+    assert 300 <= rep["patches"] <= 500
+    assert 0 < rep["rms_limit_permille"] < 2.5 and 0 < rep["rms_displaced_permille"] < 0.15
+    for f in ["displacement.png", "displacement.json", "control.obj", "control.mtl", "control.ply", "report.json"]:
+        assert (out / f).stat().st_size > 0, f
+    fitted = ms.mesh(2)
+    assert fitted.has_wedge_tex_coord() and fitted.texture_number() == 1
+    assert list(fitted.textures().keys()) == ["displacement.png"]
+    limit = ms.mesh(3)
+    assert limit.face_number() == 2 * 64 * rep["patches"] and limit.has_vertex_scalar()
+
+
+def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
+    ms, _ = bunny_pipeline
+    ms.set_current_mesh(2)
+    # MeshLab 2025.07's polygonal OBJ export drops per-wedge UVs and the map_Kd (save_polygonal=True
+    # wrote 3 'vt' lines for a whole layer): triangles keep them. control.obj has the real quads.
+    ms.save_current_mesh(str(tmp_path / "fitted.obj"), save_polygonal=False)
+    obj = (tmp_path / "fitted.obj").read_text()
+    assert obj.count("\nvt ") >= 3 * 2 * len(ms.mesh(1).polygonal_face_list()) // 2
+    assert (tmp_path / "displacement.png").stat().st_size > 0
+    assert "map_Kd displacement.png" in (tmp_path / "fitted.obj.mtl").read_text()
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda ms: ms.compute_scalar_by_fitmaps_per_vertex(tau=200), "tau must be in [0, 100] percent"),
+    (lambda ms: ms.compute_scalar_by_fitmaps_per_vertex(numradii=1), "number of radii must be in [2, 64]"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(usemfitmap=False),
+     "without the M-fitmap test a target patch count is needed (it would collapse everything)"),
+    (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
+     "the reference layer must be another layer than the control mesh (the current layer)"),
+    (lambda ms: ms.apply_loop_surrogate_snap_points(surfacemesh=0),
+     "the control net must be another layer than the points (the current layer)"),
+    (lambda ms: ms.generate_loop_surrogate_refinement(targetfaces=0), "target triangles must be in [1, 5e7]"),
+    (lambda ms: ms.compute_scalar_by_loop_surrogate_curvature_per_vertex(creaseangle=200),
+     "crease angle must be in [0, 180] degrees"),
+])
+def test_bad_input_raises_the_message_and_leaves_the_layers(call, message):
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(2), "sphere")
+    before = layers_snapshot(ms)
+    with pytest.raises(pymeshlab.PyMeshLabException) as e:
+        call(ms)
+    assert str(e.value).endswith("Details: " + message), str(e.value)
+    assert_layers_equal(before, layers_snapshot(ms))
+
+
+def test_fit_on_triangles_fails_with_the_importer_message():
+    # the control layer must be quads; a triangle layer is refused, the document is unchanged
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(2), "scan")
+    ms.add_mesh(icosphere(1), "not quads")
+    before = layers_snapshot(ms)
+    with pytest.raises(pymeshlab.PyMeshLabException) as e:
+        ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0)
+    assert "Failed to apply filter: generate_catmull_clark_fit_and_displacement_bake\nDetails: " in str(e.value)
+    assert "quad" in str(e.value)
+    assert_layers_equal(before, layers_snapshot(ms))
