@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include "e2e_support.h"
@@ -40,11 +41,16 @@ TEST(RunPipeline, RejectsBadArguments) {
   EXPECT_NE(r.output.find("input not found"), std::string::npos) << r.output;
 }
 
-// MeshLab 2020.09's OFF reader crashes on the data set's prim.off (a valid file: comment lines
-// among its data, a cube of quads and a stray triangle) before any filter runs, so the script,
-// not the plugin, says what happened and what to do.
+// When MeshLab's own reader fails before any filter runs, the script, not the plugin, says what
+// happened and what to do. A truncated OFF is refused every time; MeshLab 2020.09's crash on the
+// data set's prim.off (comment lines among its data) comes and goes between runs, so it is not
+// the test input (CI 2026-12-01: it read the file once and crashed on it in other runs).
 TEST(RunPipeline, ReaderCrashIsNamed) {
-  const std::string in = testsupport::SamplePath("prim.off");
+  const std::string in = e2e::OutPath("truncated_input.off");
+  {
+    std::ofstream f(in);
+    f << "OFF\n4 4 0\n0 0 0\n1 0 0\n";
+  }
   auto r = e2e::Run("FITMAP_SKIP_SETUP=1 " + Pipeline() + " " + e2e::Q(in) + " " + e2e::Q(e2e::OutPath("reader_crash")));
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("MeshLab could not read"), std::string::npos) << r.output;
