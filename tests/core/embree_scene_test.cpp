@@ -41,6 +41,42 @@ TEST(EmbreeScene, ClosestPointMatchesBruteForceOnSphere) {
   }
 }
 
+// The hint face only bounds the search: with any hint (near, far, invalid) the answer's distance
+// is the brute-force one, on a sphere and on the same sphere moved far from the origin (where
+// Embree's float coordinates round at 1e-3 and the hint's radius must allow for it). Tolerance:
+// float rounding of the coordinates (1e-5 relative to their size).
+TEST(EmbreeScene, ClosestPointWithAnyHintMatchesBruteForce) {
+  for (double offset : {0.0, 1e4, 1e5}) {
+    auto m = testsupport::Icosphere(3);
+    for (auto& v : m.V) v[0] += offset;
+    vcgext::EmbreeScene s(m);
+    ASSERT_TRUE(s.Ok());
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(-1.5, 1.5);
+    std::uniform_int_distribution<int> F(0, int(m.F.size()) - 1);
+    int previous = -1;
+    for (int it = 0; it < 300; ++it) {
+      const Vec3 p(offset + U(rng), U(rng), U(rng));
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& f : m.F)
+        best = std::min(best, (vcgext::ClosestPointOnTriangle(p, m.V[f[0]], m.V[f[1]], m.V[f[2]]) - p).norm());
+      const double tol = 1e-5 + 3e-7 * offset;  // a float ulp of the coordinates, 2.5x
+      for (int hint : {-1, previous, F(rng), int(m.F.size()) + 5}) {
+        const auto h = s.ClosestPoint(p, std::numeric_limits<double>::infinity(), hint);
+        ASSERT_TRUE(h.valid);
+        EXPECT_NEAR((h.point - p).norm(), best, tol) << "hint " << hint << " offset " << offset;
+      }
+      // with a finite range too: the answer when it lies within the range
+      const auto r = s.ClosestPoint(p, 0.3, F(rng));
+      if (best < 0.3 - tol) {
+        ASSERT_TRUE(r.valid);
+        EXPECT_NEAR((r.point - p).norm(), best, tol);
+      }
+      previous = s.ClosestPoint(p).face;
+    }
+  }
+}
+
 // NearestOnLine (the projection phi with fewer rays) against a brute-force double-precision
 // line/triangle search, on two nested spheres (several sheets on most lines), for every guess of
 // the side, several windows and ray lengths: the guess and the window may only change the ray

@@ -43,6 +43,7 @@ bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
 
 EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
   eps_ = 1e-7 * BBoxDiagonal(mesh_.V);
+  for (const Vec3& v : mesh_.V) coordScale_ = std::max(coordScale_, v.cwiseAbs().maxCoeff());
   device_ = rtcNewDevice("threads=0");
   if (!device_) { error_ = "Embree: cannot create a device"; return; }
   rtcSetDeviceErrorFunction(device_, ErrorHandler, &error_);
@@ -166,13 +167,21 @@ EmbreeScene::Hit EmbreeScene::NearestOnLine(const Vec3& c, const Vec3& dir, doub
   return nearer(f, f.valid ? f.t : 0.0, b, b.valid ? b.t : 0.0);
 }
 
-EmbreeScene::Hit EmbreeScene::ClosestPoint(const Vec3& p, double maxDist) const {
+EmbreeScene::Hit EmbreeScene::ClosestPoint(const Vec3& p, double maxDist, int hintFace) const {
   Hit best;
   if (!scene_ || !p.allFinite() || p.cwiseAbs().maxCoeff() >= 1.8e18 || std::isnan(maxDist)) return best;
   ClosestQuery q{&mesh_, &best, std::numeric_limits<double>::infinity()};
   RTCPointQuery query;
   query.x = float(p[0]); query.y = float(p[1]); query.z = float(p[2]);
   query.radius = std::isfinite(maxDist) ? float(maxDist) : std::numeric_limits<float>::infinity();
+  if (hintFace >= 0 && hintFace < int(mesh_.F.size())) {
+    // an upper bound of the answer's distance, widened past float rounding: Embree's tree and
+    // query point are floats (a relative 1.2e-7 of the coordinates), the callback's distances doubles
+    const auto& f = mesh_.F[hintFace];
+    const double d = (ClosestPointOnTriangle(p, mesh_.V[f[0]], mesh_.V[f[1]], mesh_.V[f[2]]) - p).norm();
+    const double bound = d * 1.001 + 10 * eps_ + 1e-6 * (p.cwiseAbs().maxCoeff() + coordScale_);
+    if (bound < query.radius) query.radius = float(bound);
+  }
   query.time = 0.f;
   RTCPointQueryContext ctx;
   rtcInitPointQueryContext(&ctx);

@@ -51,14 +51,24 @@ class EmbreeScene {
   /// on the guess or the window (tests/core: brute-force comparison); only the ray count does.
   Hit NearestOnLine(const Vec3& c, const Vec3& dir, double maxDist, double window,
                     signed char* side = nullptr) const;
-  /// Closest point on the surface within `maxDist` (Embree point query).
-  Hit ClosestPoint(const Vec3& p, double maxDist = std::numeric_limits<double>::infinity()) const;
+  /// Closest point on the surface within `maxDist` (Embree point query). When nothing lies
+  /// within maxDist the answer may still be a triangle somewhat beyond it (Embree hands the
+  /// callback every triangle of a leaf whose box meets the query sphere), or none: callers that
+  /// need the bound check the distance. `hintFace` (optional,
+  /// -1 = none): a face probably near the answer, e.g. the previous answer of a loop over
+  /// neighbouring points. Its distance bounds the query radius from the start, so the traversal
+  /// skips most of the tree; the answer is the same (every face at the minimum distance stays
+  /// inside the radius), only faster: 2-4x on dense meshes, where an unbounded query visits many
+  /// leaves before its radius shrinks (tests/core: brute-force comparison with and without).
+  Hit ClosestPoint(const Vec3& p, double maxDist = std::numeric_limits<double>::infinity(),
+                   int hintFace = -1) const;
 
   const TriData& Mesh() const { return mesh_; }
 
  private:
   TriData mesh_;
   double eps_ = 0;  ///< 1e-7 x bbox diagonal: rays from a point start this far behind it
+  double coordScale_ = 0;  ///< largest |coordinate| (float rounding bound of the hint radius)
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
   std::string error_;

@@ -192,13 +192,18 @@ LimitTessellation TessellateLimit(const LimitSurface& ls, const std::vector<Vec3
 std::vector<double> SignedDistanceToReference(const std::vector<Vec3>& pts, const EmbreeScene& ref, double maxDist) {
   std::vector<double> d(pts.size(), maxDist);
   const auto fn = FaceNormals(ref.Mesh());
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < long(pts.size()); ++i) {
-    EmbreeScene::Hit h = ref.ClosestPoint(pts[i], maxDist);
-    if (!h.valid) continue;
-    Vec3 dv = pts[i] - h.point;
-    double s = dv.dot(fn[h.face]) < 0 ? -1.0 : 1.0;
-    d[i] = s * dv.norm();
+#pragma omp parallel
+  {
+    int hint = -1;  // the previous point's face (ClosestPoint's hint: neighbouring points)
+#pragma omp for schedule(static)
+    for (long i = 0; i < long(pts.size()); ++i) {
+      EmbreeScene::Hit h = ref.ClosestPoint(pts[i], maxDist, hint);
+      if (!h.valid) continue;
+      hint = h.face;
+      Vec3 dv = pts[i] - h.point;
+      double s = dv.dot(fn[h.face]) < 0 ? -1.0 : 1.0;
+      d[i] = s * dv.norm();
+    }
   }
   return d;
 }
@@ -369,10 +374,15 @@ std::vector<double> PatchVertexCounts(const LimitTessellation& t, int patches, c
   const EmbreeScene s(t.mesh);
   if (!s.Ok()) return n;
   std::vector<int> owner(ref.V.size(), -1);
-#pragma omp parallel for schedule(static)
-  for (long v = 0; v < long(ref.V.size()); ++v) {
-    const EmbreeScene::Hit h = s.ClosestPoint(ref.V[v]);
-    if (h.valid && h.face < int(t.triPatch.size())) owner[v] = t.triPatch[h.face];
+#pragma omp parallel
+  {
+    int hint = -1;
+#pragma omp for schedule(static)
+    for (long v = 0; v < long(ref.V.size()); ++v) {
+      const EmbreeScene::Hit h = s.ClosestPoint(ref.V[v], std::numeric_limits<double>::infinity(), hint);
+      if (h.valid) hint = h.face;
+      if (h.valid && h.face < int(t.triPatch.size())) owner[v] = t.triPatch[h.face];
+    }
   }
   for (int o : owner)
     if (o >= 0 && o < patches) n[o] += 1;
@@ -721,36 +731,41 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
     const TriData dm = model.Mesh(d);
     EmbreeScene scene(dm);
     if (!scene.Ok()) break;
-#pragma omp parallel for schedule(static)
-    for (int r = 0; r < nR; ++r) {
-      const Vec3& x = ref.V[r];
-      const EmbreeScene::Hit h = scene.ClosestPoint(x);
-      rowLen[r] = 0;
-      dist[r] = h.valid ? (h.point - x).norm() : 0.0;
-      // no row for reference parts farther than the bake's range (not covered by the control
-      // mesh, outliers): the texels must not be pulled there (they stay within ±maxDist)
-      if (!h.valid || dist[r] > maxDist) continue;
-      const auto& tri = dm.F[h.face];
-      const double b[3] = {1 - h.u - h.v, h.u, h.v};
-      Vec3 m = (dm.V[tri[1]] - dm.V[tri[0]]).cross(dm.V[tri[2]] - dm.V[tri[0]]);
-      if (!(m.norm() > 0)) m = b[0] * base.normal[tri[0]] + b[1] * base.normal[tri[1]] + b[2] * base.normal[tri[2]];
-      if (!(m.norm() > 0)) continue;
-      m.normalize();
-      // Point-to-plane row: the foot's displacement along m must close the gap to x.
-      Vec3 L = Vec3::Zero();
-      int len = 0;
-      for (int c = 0; c < 3; ++c) {
-        const int k = tri[c];
-        L += b[c] * base.mesh.V[k];
-        const double ck = b[c] * base.normal[k].dot(m);
-        for (int q = 0; q < model.Terms(k); ++q) {
-          rowIdx[r][len] = model.Unknowns(k)[q];
-          rowW[r][len] = ck * model.Weights(k)[q];
-          ++len;
+#pragma omp parallel
+    {
+      int hint = -1;
+#pragma omp for schedule(static)
+      for (int r = 0; r < nR; ++r) {
+        const Vec3& x = ref.V[r];
+        const EmbreeScene::Hit h = scene.ClosestPoint(x, std::numeric_limits<double>::infinity(), hint);
+        if (h.valid) hint = h.face;
+        rowLen[r] = 0;
+        dist[r] = h.valid ? (h.point - x).norm() : 0.0;
+        // no row for reference parts farther than the bake's range (not covered by the control
+        // mesh, outliers): the texels must not be pulled there (they stay within ±maxDist)
+        if (!h.valid || dist[r] > maxDist) continue;
+        const auto& tri = dm.F[h.face];
+        const double b[3] = {1 - h.u - h.v, h.u, h.v};
+        Vec3 m = (dm.V[tri[1]] - dm.V[tri[0]]).cross(dm.V[tri[2]] - dm.V[tri[0]]);
+        if (!(m.norm() > 0)) m = b[0] * base.normal[tri[0]] + b[1] * base.normal[tri[1]] + b[2] * base.normal[tri[2]];
+        if (!(m.norm() > 0)) continue;
+        m.normalize();
+        // Point-to-plane row: the foot's displacement along m must close the gap to x.
+        Vec3 L = Vec3::Zero();
+        int len = 0;
+        for (int c = 0; c < 3; ++c) {
+          const int k = tri[c];
+          L += b[c] * base.mesh.V[k];
+          const double ck = b[c] * base.normal[k].dot(m);
+          for (int q = 0; q < model.Terms(k); ++q) {
+            rowIdx[r][len] = model.Unknowns(k)[q];
+            rowW[r][len] = ck * model.Weights(k)[q];
+            ++len;
+          }
         }
+        rowLen[r] = len;
+        rhs0[r] = (x - L).dot(m);
       }
-      rowLen[r] = len;
-      rhs0[r] = (x - L).dot(m);
     }
     double sum = 0;
     for (int r = 0; r < nR; ++r) sum += dist[r] * dist[r];
@@ -823,12 +838,17 @@ std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const TriD
 std::pair<double, double> ReferenceToSurfaceError(const TriData& ref, const EmbreeScene& s) {
   if (!s.Ok() || ref.V.empty()) return {0.0, 0.0};
   double sum = 0, mx = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sum) reduction(max : mx)
-  for (long i = 0; i < long(ref.V.size()); ++i) {
-    EmbreeScene::Hit h = s.ClosestPoint(ref.V[i]);
-    double d = h.valid ? (h.point - ref.V[i]).norm() : 0.0;
-    sum += d * d;
-    mx = std::max(mx, d);
+#pragma omp parallel reduction(+ : sum) reduction(max : mx)
+  {
+    int hint = -1;
+#pragma omp for schedule(static)
+    for (long i = 0; i < long(ref.V.size()); ++i) {
+      EmbreeScene::Hit h = s.ClosestPoint(ref.V[i], std::numeric_limits<double>::infinity(), hint);
+      if (h.valid) hint = h.face;
+      double d = h.valid ? (h.point - ref.V[i]).norm() : 0.0;
+      sum += d * d;
+      mx = std::max(mx, d);
+    }
   }
   return {std::sqrt(sum / ref.V.size()), mx};
 }
@@ -839,18 +859,23 @@ std::pair<double, double> AreaSampledDistance(const TriData& from, const TriData
 std::pair<double, double> AreaSampledDistance(const TriData& from, const EmbreeScene& s, bool threePoint) {
   if (!s.Ok() || from.F.empty()) return {0.0, 0.0};
   double sw = 0, sd = 0, mx = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sw, sd) reduction(max : mx)
-  for (long t = 0; t < long(from.F.size()); ++t) {
-    const auto& f = from.F[t];
-    const Vec3 &a = from.V[f[0]], &b = from.V[f[1]], &c = from.V[f[2]];
-    const double w = 0.5 * (b - a).cross(c - a).norm() / (threePoint ? 3 : 1);
-    for (int k = 0; k < (threePoint ? 3 : 1); ++k) {
-      const Vec3 q = threePoint ? Vec3((a + b + c + 3.0 * (k == 0 ? a : k == 1 ? b : c)) / 6.0) : Vec3((a + b + c) / 3.0);
-      const EmbreeScene::Hit h = s.ClosestPoint(q);
-      const double d = h.valid ? (h.point - q).norm() : 0.0;
-      sw += w;
-      sd += w * d * d;
-      mx = std::max(mx, d);
+#pragma omp parallel reduction(+ : sw, sd) reduction(max : mx)
+  {
+    int hint = -1;
+#pragma omp for schedule(static)
+    for (long t = 0; t < long(from.F.size()); ++t) {
+      const auto& f = from.F[t];
+      const Vec3 &a = from.V[f[0]], &b = from.V[f[1]], &c = from.V[f[2]];
+      const double w = 0.5 * (b - a).cross(c - a).norm() / (threePoint ? 3 : 1);
+      for (int k = 0; k < (threePoint ? 3 : 1); ++k) {
+        const Vec3 q = threePoint ? Vec3((a + b + c + 3.0 * (k == 0 ? a : k == 1 ? b : c)) / 6.0) : Vec3((a + b + c) / 3.0);
+        const EmbreeScene::Hit h = s.ClosestPoint(q, std::numeric_limits<double>::infinity(), hint);
+        if (h.valid) hint = h.face;
+        const double d = h.valid ? (h.point - q).norm() : 0.0;
+        sw += w;
+        sd += w * d * d;
+        mx = std::max(mx, d);
+      }
     }
   }
   return {sw > 0 ? std::sqrt(sd / sw) : 0.0, mx};
@@ -871,27 +896,32 @@ double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, co
   }
   EmbreeScene ls(lim.mesh);
   double total = 0, missed = 0;
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : total, missed)
-  for (int t = 0; t < nT; ++t) {
-    const auto& f = ref.F[t];
-    const Vec3 &a = ref.V[f[0]], &b = ref.V[f[1]], &c = ref.V[f[2]];
-    const double area = 0.5 * (b - a).cross(c - a).norm();
-    total += area;
-    unsigned char r;
+#pragma omp parallel reduction(+ : total, missed)
+  {
+    int hint = -1;
+#pragma omp for schedule(dynamic, 64)
+    for (int t = 0; t < nT; ++t) {
+      const auto& f = ref.F[t];
+      const Vec3 &a = ref.V[f[0]], &b = ref.V[f[1]], &c = ref.V[f[2]];
+      const double area = 0.5 * (b - a).cross(c - a).norm();
+      total += area;
+      unsigned char r;
 #pragma omp atomic read
-    r = reached[t];
-    if (r) continue;
-    bool ok = false;
-    EmbreeScene::Hit q = ls.ClosestPoint((a + b + c) / 3.0, maxDist);
-    if (q.valid) {
-      const auto& g = lim.mesh.F[q.face];
-      Vec3 n = (1 - q.u - q.v) * lim.normal[g[0]] + q.u * lim.normal[g[1]] + q.v * lim.normal[g[2]];
-      if (n.norm() > 0) {
-        EmbreeScene::Hit h = scene.IntersectLine(q.point, n.normalized(), maxDist);
-        ok = h.valid && h.face == t;
+      r = reached[t];
+      if (r) continue;
+      bool ok = false;
+      EmbreeScene::Hit q = ls.ClosestPoint((a + b + c) / 3.0, maxDist, hint);
+      if (q.valid) {
+        hint = q.face;
+        const auto& g = lim.mesh.F[q.face];
+        Vec3 n = (1 - q.u - q.v) * lim.normal[g[0]] + q.u * lim.normal[g[1]] + q.v * lim.normal[g[2]];
+        if (n.norm() > 0) {
+          EmbreeScene::Hit h = scene.IntersectLine(q.point, n.normalized(), maxDist);
+          ok = h.valid && h.face == t;
+        }
       }
+      if (!ok) missed += area;
     }
-    if (!ok) missed += area;
   }
   return total > 0 ? 100.0 * missed / total : 0.0;
 }
