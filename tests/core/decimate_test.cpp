@@ -77,6 +77,77 @@ TEST(WorkingResolution, OpenGridKeepsItsBoundary) {
   EXPECT_EQ(boundary, 240);  // the boundary is preserved: 4 x 60 edges
 }
 
+namespace {
+// A torus (R = 1, r = 0.3) as an n x m grid wrapped both ways: genus 1, 2nm triangles.
+TriData Torus(int n, int m) {
+  TriData t;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m;
+      t.V.push_back({(1 + 0.3 * std::cos(v)) * std::cos(u), (1 + 0.3 * std::cos(v)) * std::sin(u), 0.3 * std::sin(v)});
+    }
+  auto id = [&](int i, int j) { return (i % n) * m + (j % m); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      t.F.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      t.F.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return t;
+}
+double TorusDistance(const vcgext::Vec3& x) {
+  const double rho = std::hypot(x[0], x[1]);
+  return std::abs(std::hypot(rho - 1, x[2]) - 0.3);
+}
+}  // namespace
+
+// The two-thread decimation of large inputs (splitMinFaces): the same guarantees as one thread
+// (topology, manifold and oriented, the target, the boundary) and the same accuracy, within a
+// margin: its collapses come in another order, so the meshes differ.
+TEST(WorkingResolution, SplitDecimationKeepsTopologyAndAccuracy) {
+  const TriData torus = Torus(200, 100);  // 40000 triangles
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 4000;
+  p.splitMinFaces = 0;
+  const auto one = vcgext::WorkingResolution(torus, p);
+  p.splitMinFaces = 10000;
+  const auto two = vcgext::WorkingResolution(torus, p);
+  ASSERT_TRUE(one.decimated);
+  ASSERT_TRUE(two.decimated);
+  EXPECT_FALSE(one.split);
+  EXPECT_TRUE(two.split);
+  EXPECT_LE(int(two.mesh.F.size()), 4000);
+  EXPECT_GE(int(two.mesh.F.size()), 3900);
+  EXPECT_EQ(Euler(two.mesh), 0);
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(two.mesh);
+  EXPECT_EQ(w.error, "");
+  EXPECT_TRUE(w.notes.empty());
+  double maxOne = 0, maxTwo = 0;
+  for (const auto& v : one.mesh.V) maxOne = std::max(maxOne, TorusDistance(v));
+  for (const auto& v : two.mesh.V) maxTwo = std::max(maxTwo, TorusDistance(v));
+  // one thread: ~1e-3 (chords of 4000 faces on r = 0.3); two: within 1.5x of it
+  EXPECT_LT(maxOne, 5e-3);
+  EXPECT_LT(maxTwo, 1.5 * maxOne + 1e-4);
+
+  // an open surface: the cut crosses its border, which stays where it was
+  TriData g = testsupport::HeightField(160, 160, 1.0, [](double x, double y) { return 0.1 * std::sin(3 * x) * std::cos(2 * y); });
+  p.maxFaces = 3000;
+  const auto r = vcgext::WorkingResolution(g, p);
+  ASSERT_TRUE(r.split);
+  EXPECT_EQ(Euler(r.mesh), 1);
+  EXPECT_EQ(vcgext::PrepareWorkingCopy(r.mesh).error, "");
+  std::set<std::pair<int, int>> he;
+  for (const auto& f : r.mesh.F)
+    for (int k = 0; k < 3; ++k) he.insert({f[k], f[(k + 1) % 3]});
+  int boundary = 0;
+  for (const auto& [a, b] : he)
+    if (!he.count({b, a})) {
+      ++boundary;
+      const auto& x = r.mesh.V[a];
+      EXPECT_LT(std::min({std::abs(x[0]), std::abs(x[0] - 1), std::abs(x[1]), std::abs(x[1] - 1)}), 1e-9);
+    }
+  EXPECT_EQ(boundary, 4 * 160);
+}
+
 // The simplification's start-mesh policy (ChooseStartMesh): which rule fired, the mesh it gives
 // and the log line that says so.
 TEST(StartMesh, EachRuleGivesItsMeshAndNote) {

@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cstdint>
 #include <mutex>
+#include <thread>
+#include <unordered_map>
 
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
@@ -38,10 +40,15 @@ class DFace : public vcg::Face<DUsedTypes, vcg::face::VertexRef, vcg::face::Norm
 class DMesh : public vcg::tri::TriMesh<std::vector<DVertex>, std::vector<DFace>> {};
 
 using DPair = vcg::tri::BasicVertexPair<DVertex>;
-class DCollapse : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapse, vcg::tri::QInfoStandard<DVertex>> {
+// One collapse type per concurrent decimation: vcglib keeps its heap's validity counter
+// (TriEdgeCollapse::GlobalMark) in a static of the collapse type, so the two halves of a split
+// decimation (DecimateSplit) each need their own type, K = 0 and 1.
+template <int K>
+class DCollapseT
+    : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K>, vcg::tri::QInfoStandard<DVertex>> {
  public:
-  using Base = vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapse, vcg::tri::QInfoStandard<DVertex>>;
-  DCollapse(const DPair& p, int i, vcg::BaseParameterClass* pp) : Base(p, i, pp) {}
+  using Base = vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K>, vcg::tri::QInfoStandard<DVertex>>;
+  DCollapseT(const DPair& p, int i, vcg::BaseParameterClass* pp) : Base(p, i, pp) {}
 };
 
 // FNV-1a over the mesh's arrays and the parameters: identifies a repeated request.
@@ -55,6 +62,7 @@ std::uint64_t Fingerprint(const TriData& m, const WorkingResolutionParams& p) {
   eat(m.F.data(), m.F.size() * sizeof(Tri));
   eat(&p.maxFaces, sizeof p.maxFaces);
   eat(&p.preserveBoundary, sizeof p.preserveBoundary);
+  eat(&p.splitMinFaces, sizeof p.splitMinFaces);
   return h;
 }
 
@@ -187,30 +195,133 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
 }
 
 namespace {
-DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
-  const auto t0 = std::chrono::steady_clock::now();
-  DecimateResult r;
-  DMesh d;
-  ToDMesh(m, d);
+// vcglib's quadric edge collapse of `d` down to `target` faces. Progress (when cb) runs from
+// `from` to `to` percent.
+template <int K>
+void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackPos* cb, int from = 0, int to = 100) {
   vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
   vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
 
   vcg::tri::TriEdgeCollapseQuadricParameter qp;
   qp.PreserveTopology = true;
-  qp.FastPreserveBoundary = p.preserveBoundary;  // what MeshLab's filter uses for "Preserve Boundary"
+  qp.FastPreserveBoundary = preserveBoundary;  // what MeshLab's filter uses for "Preserve Boundary"
   qp.OptimalPlacement = true;
   qp.QualityCheck = true;
   qp.NormalCheck = true;
   qp.NormalThrRad = M_PI / 4.0;
   vcg::LocalOptimization<DMesh> session(d, &qp);
-  session.Init<DCollapse>();
-  session.SetTargetSimplices(p.maxFaces);
+  session.Init<DCollapseT<K>>();
+  session.SetTargetSimplices(target);
   session.SetTimeBudget(0.1f);  // returns ten times a second for progress
-  const int toDelete = d.fn - p.maxFaces;
-  while (session.DoOptimization() && d.fn > p.maxFaces)
-    if (cb) cb(100 - 100 * (d.fn - p.maxFaces) / std::max(1, toDelete), "Working resolution: decimating");
-  session.Finalize<DCollapse>();
+  const int toDelete = d.fn - target;
+  while (session.DoOptimization() && d.fn > target)
+    if (cb)
+      cb(from + (to - from) * (100 - 100 * (d.fn - target) / std::max(1, toDelete)) / 100,
+         "Working resolution: decimating");
+  session.Finalize<DCollapseT<K>>();
+}
+
+// Halves of `m` at the median face centroid along the longest bbox axis. A vertex used by both
+// halves is a cut vertex: its quality in each half is its index in `m` (else -1).
+void SplitInTwo(const TriData& m, DMesh half[2]) {
+  Vec3 lo = m.V.empty() ? Vec3::Zero() : m.V[0], hi = lo;
+  for (const Vec3& v : m.V) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  std::vector<double> c(m.F.size());
+  for (size_t f = 0; f < m.F.size(); ++f) c[f] = m.V[m.F[f][0]][axis] + m.V[m.F[f][1]][axis] + m.V[m.F[f][2]][axis];
+  std::vector<double> sorted = c;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  std::vector<unsigned char> side(m.F.size()), use(m.V.size(), 0);
+  for (size_t f = 0; f < m.F.size(); ++f) {
+    side[f] = c[f] < median ? 0 : 1;
+    for (int v : m.F[f]) use[v] |= 1 << side[f];
+  }
+  for (int h = 0; h < 2; ++h) {
+    std::vector<int> local(m.V.size(), -1);
+    int nv = 0, nf = 0;
+    for (size_t v = 0; v < m.V.size(); ++v)
+      if (use[v] & (1 << h)) local[v] = nv++;
+    for (unsigned char s : side) nf += s == h;
+    auto vi = vcg::tri::Allocator<DMesh>::AddVertices(half[h], nv);
+    for (size_t v = 0; v < m.V.size(); ++v)
+      if (local[v] >= 0) {
+        DVertex& dv = half[h].vert[local[v]];
+        dv.P() = vcg::Point3d(m.V[v][0], m.V[v][1], m.V[v][2]);
+        dv.Q() = use[v] == 3 ? double(v) : -1.0;
+      }
+    (void)vi;
+    auto fi = vcg::tri::Allocator<DMesh>::AddFaces(half[h], nf);
+    for (size_t f = 0; f < m.F.size(); ++f)
+      if (side[f] == h) {
+        for (int k = 0; k < 3; ++k) fi->V(k) = &half[h].vert[local[m.F[f][k]]];
+        ++fi;
+      }
+  }
+}
+
+// The two decimated halves welded at their cut vertices (which no collapse moved: they are
+// boundary vertices of their half, and FastPreserveBoundary keeps those).
+void WeldHalves(DMesh half[2], DMesh& out) {
+  TriData merged;
+  std::unordered_map<long long, int> cut;
+  for (int h = 0; h < 2; ++h) {
+    vcg::tri::Allocator<DMesh>::CompactEveryVector(half[h]);
+    std::vector<int> index(half[h].vert.size());
+    for (size_t v = 0; v < half[h].vert.size(); ++v) {
+      const DVertex& dv = half[h].vert[v];
+      const long long g = dv.cQ() >= 0 ? (long long)(dv.cQ()) : -1;
+      if (g >= 0) {
+        auto it = cut.find(g);
+        if (it != cut.end()) { index[v] = it->second; continue; }
+        cut.emplace(g, int(merged.V.size()));
+      }
+      index[v] = int(merged.V.size());
+      merged.V.push_back(Vec3(dv.cP()[0], dv.cP()[1], dv.cP()[2]));
+    }
+    for (const auto& f : half[h].face)
+      merged.F.push_back({index[vcg::tri::Index(half[h], f.cV(0))], index[vcg::tri::Index(half[h], f.cV(1))],
+                          index[vcg::tri::Index(half[h], f.cV(2))]});
+  }
+  ToDMesh(merged, out);
+}
+
+// Large inputs on two threads (paper §4's M' of a 5 M-triangle scan is a minute of collapses on
+// one): each half decimated to its share of 120 % of the target with the cut kept (a boundary of
+// the half), the halves welded, then one pass over the whole to the target, which also
+// coarsens the strip along the cut. Every collapse of a half is one the whole mesh allows (an
+// edge of two non-cut vertices has its whole neighbourhood in the half: the same quadrics and
+// link condition), so the result keeps the topology like the one-thread decimation. Under load
+// (the other core busy) it costs what one thread does. Measured in docs/multires.md.
+void DecimateSplit(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb, DMesh& d) {
+  DMesh half[2];
+  SplitInTwo(m, half);
+  const double share = 1.2 * p.maxFaces / double(m.F.size());
+  const int target0 = std::max(1, int(share * half[0].fn)), target1 = std::max(1, int(share * half[1].fn));
+  std::thread other([&] { QuadricCollapse<1>(half[1], target1, true, nullptr); });
+  QuadricCollapse<0>(half[0], target0, true, cb, 0, 90);  // progress from this thread only
+  other.join();
+  WeldHalves(half, d);
+  QuadricCollapse<0>(d, p.maxFaces, p.preserveBoundary, cb, 90, 100);
+}
+
+DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DecimateResult r;
+  DMesh d;
+  if (p.splitMinFaces > 0 && m.F.size() >= size_t(p.splitMinFaces) && size_t(p.maxFaces) * 2 <= m.F.size() &&
+      p.preserveBoundary) {
+    DecimateSplit(m, p, cb, d);
+    r.split = true;
+  } else {
+    ToDMesh(m, d);
+    QuadricCollapse<0>(d, p.maxFaces, p.preserveBoundary, cb);
+  }
   r.mesh = FromDMesh(d);
   r.decimated = true;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
