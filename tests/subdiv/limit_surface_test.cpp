@@ -253,6 +253,46 @@ TEST(LimitSurface, StencilsArePartitionsOfUnity) {
   EXPECT_FALSE(ls.Stencil(-1, 0.5, 0.5, st));
 }
 
+// Evaluate (no allocation) against applying Stencil's weights: equal to the last bit, for every
+// order, on the cube (every neighbourhood wraps: duplicate control points merged), an
+// irregular icosphere (Loop) and a regular grid.
+TEST(LimitSurface, EvaluateEqualsAppliedStencilExactly) {
+  std::vector<std::pair<LimitSurface, std::vector<Vec3>>> cases;
+  const QuadData cube = PerturbedCube(3), grid = HeightGrid(6, 5);
+  const TriData ico = testsupport::Icosphere(1);
+  cases.emplace_back(LimitSurface::FromQuads(cube), cube.V);
+  cases.emplace_back(LimitSurface::FromQuads(grid), grid.V);
+  cases.emplace_back(LimitSurface::FromTriangles(ico), ico.V);
+  int checked = 0;
+  for (const auto& [ls, ctrl] : cases) {
+    ASSERT_TRUE(ls.Ok());
+    for (int f = 0; f < ls.NumFaces(); ++f)
+      for (const auto& [u, v] : {std::pair{0.0, 0.0}, {0.3, 0.7}, {1.0, 0.25}, {0.5, 1.0}}) {
+        LimitStencil st;
+        ASSERT_TRUE(ls.Stencil(f, u, v, st, 2));
+        std::vector<const std::vector<double>*> w = {&st.P, &st.Du, &st.Dv, &st.Duu, &st.Duv, &st.Dvv};
+        Vec3 e[6];
+        ASSERT_TRUE(ls.Evaluate(f, u, v, ctrl, &e[0], &e[1], &e[2], &e[3], &e[4], &e[5]));
+        for (int d = 0; d < 6; ++d) {
+          Vec3 a = Vec3::Zero();
+          for (int i = 0; i < st.Size(); ++i) a += (*w[d])[i] * ctrl[st.index[i]];
+          EXPECT_EQ(a, e[d]) << "face " << f << " derivative " << d;
+        }
+        Vec3 p0;  // order 0 and 1 take their own path through the stencil evaluation
+        ASSERT_TRUE(ls.Evaluate(f, u, v, ctrl, &p0));
+        ASSERT_TRUE(ls.Stencil(f, u, v, st, 0));
+        Vec3 a = Vec3::Zero();
+        for (int i = 0; i < st.Size(); ++i) a += st.P[i] * ctrl[st.index[i]];
+        EXPECT_EQ(a, p0);
+        ++checked;
+      }
+  }
+  EXPECT_GT(checked, 100);
+  Vec3 p;
+  EXPECT_FALSE(cases[0].first.Evaluate(6, 0.5, 0.5, cases[0].second, &p));
+  EXPECT_FALSE(cases[0].first.Evaluate(0, 0.5, 0.5, {}, &p));
+}
+
 TEST(LimitSurface, ParallelEvaluationMatchesSerial) {
   TriData t = testsupport::Icosphere(2);
   LimitSurface ls = LimitSurface::FromTriangles(t);

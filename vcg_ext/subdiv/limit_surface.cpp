@@ -334,17 +334,42 @@ bool LimitSurface::Stencil(int face, double u, double v, LimitStencil& out, int 
 bool LimitSurface::Evaluate(int face, double u, double v, const std::vector<Vec3>& ctrl, Vec3* P, Vec3* Du,
                             Vec3* Dv, Vec3* Duu, Vec3* Duv, Vec3* Dvv) const {
   if (int(ctrl.size()) != numVertices_) return false;
-  int order = (Duu || Duv || Dvv) ? 2 : (Du || Dv) ? 1 : 0;
-  LimitStencil st;
-  if (!Stencil(face, u, v, st, order)) return false;
-  auto apply = [&](const std::vector<double>& w, Vec3* r) {
-    if (!r) return;
-    r->setZero();
-    for (int i = 0; i < st.Size(); ++i) *r += w[i] * ctrl[st.index[i]];
-  };
-  apply(st.P, P);
-  if (order >= 1) { apply(st.Du, Du); apply(st.Dv, Dv); }
-  if (order >= 2) { apply(st.Duu, Duu); apply(st.Duv, Duv); apply(st.Dvv, Dvv); }
+  const int order = (Duu || Duv || Dvv) ? 2 : (Du || Dv) ? 1 : 0;
+  if (!impl_ || face < 0 || face >= NumFaces()) return false;
+  // Stencil()'s weights and merge of duplicate control points, applied as they come: no
+  // allocation for usual sizes (this runs per texel, per tessellation vertex and per fit
+  // sample). The sums run in Stencil()'s order, so the result is the same to the last bit as
+  // applying Stencil()'s output (tests/subdiv compare the two).
+  const auto& s = impl_->surfaces[face];
+  const int n = s.GetNumControlPoints();
+  const int nd = order == 0 ? 1 : order == 1 ? 3 : 6;
+  double local[6 * 64];
+  int localPerm[64];
+  std::vector<double> heap;
+  std::vector<int> heapPerm;
+  double* w = local;
+  int* perm = localPerm;
+  if (n * nd > int(sizeof(local) / sizeof(double))) { heap.resize(size_t(n) * nd); w = heap.data(); }
+  if (n > 64) { heapPerm.resize(n); perm = heapPerm.data(); }
+  const double uv[2] = {u, v};
+  if (order == 0) s.EvaluateStencil(uv, w);
+  else if (order == 1) s.EvaluateStencil(uv, w, w + n, w + 2 * n);
+  else s.EvaluateStencil(uv, w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n);
+  const int* idx = impl_->cvIdx.data() + impl_->cvOffs[face];
+  std::iota(perm, perm + n, 0);
+  std::sort(perm, perm + n, [&](int a, int b) { return idx[a] < idx[b]; });
+  Vec3* out[6] = {P, Du, Dv, Duu, Duv, Dvv};
+  for (int d = 0; d < nd; ++d)
+    if (out[d]) out[d]->setZero();
+  for (int j = 0; j < n;) {
+    const int id = idx[perm[j]];
+    double acc[6];
+    for (int d = 0; d < nd; ++d) acc[d] = w[d * n + perm[j]];
+    for (++j; j < n && idx[perm[j]] == id; ++j)
+      for (int d = 0; d < nd; ++d) acc[d] += w[d * n + perm[j]];
+    for (int d = 0; d < nd; ++d)
+      if (out[d]) *out[d] += acc[d] * ctrl[id];
+  }
   return true;
 }
 
