@@ -3,6 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <random>
 #include <set>
 
 #include "test_support.h"
@@ -138,6 +142,69 @@ TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
   EXPECT_EQ(w.nonManifoldVertices, 1);
   EXPECT_NE(w.error.find("the mesh is non-manifold: 1 vertex joins"), std::string::npos) << w.error;
   EXPECT_EQ(w.error.find("0 edges"), std::string::npos) << w.error;  // only the kinds present
+}
+
+namespace {
+// Brute force, std::map based: edges in more than two faces; vertices whose faces form more
+// than one fan joined across edges of exactly two faces.
+std::pair<int, int> BruteForceNonManifold(const TriData& t) {
+  std::map<std::pair<int, int>, std::vector<int>> edge;
+  for (int f = 0; f < int(t.F.size()); ++f)
+    for (int k = 0; k < 3; ++k) edge[std::minmax(t.F[f][k], t.F[f][(k + 1) % 3])].push_back(f);
+  int edges = 0, vertices = 0;
+  for (const auto& [key, fs] : edge) edges += fs.size() > 2;
+  for (int v = 0; v < int(t.V.size()); ++v) {
+    std::map<int, int> parent;  // union-find over the faces at v
+    for (int f = 0; f < int(t.F.size()); ++f)
+      if (std::count(t.F[f].begin(), t.F[f].end(), v)) parent[f] = f;
+    std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+    for (const auto& [key, fs] : edge)
+      if ((key.first == v || key.second == v) && fs.size() == 2) parent[find(fs[0])] = find(fs[1]);
+    int roots = 0;
+    for (const auto& [f, p] : parent) roots += find(f) == f;
+    vertices += roots > 1;
+  }
+  return {edges, vertices};
+}
+}  // namespace
+
+// The counts on random damage (fins on random edges, triangles hung on random vertices) against
+// the brute force, and unchanged by renumbering the vertices and reordering the faces.
+TEST(InputPrep, NonManifoldCountsMatchBruteForceOnRandomDamage) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 12; ++trial) {
+    TriData t = testsupport::Icosphere(1);  // 80 triangles, 42 vertices
+    std::uniform_int_distribution<int> F(0, int(t.F.size()) - 1), V(0, 41), K(0, 2);
+    const int fins = trial % 4, hung = trial / 4;
+    for (int i = 0; i < fins; ++i) {
+      const auto& f = t.F[F(rng)];
+      const int k = K(rng);
+      t.V.push_back(Vec3(0.1 * i, 2, 0.1 * trial));
+      t.F.push_back({f[k], f[(k + 1) % 3], int(t.V.size()) - 1});
+    }
+    for (int i = 0; i < hung; ++i) {
+      t.V.push_back(Vec3(3, 0.1 * i, 0));
+      t.V.push_back(Vec3(3, 0.1 * i, 1));
+      t.F.push_back({V(rng), int(t.V.size()) - 2, int(t.V.size()) - 1});
+    }
+    const auto [edges, vertices] = BruteForceNonManifold(t);
+    EXPECT_EQ(edges > 0 || vertices > 0, fins + hung > 0);
+    WorkingCopy w = vcgext::PrepareWorkingCopy(t);
+    EXPECT_EQ(w.nonManifoldEdges, edges) << "trial " << trial;
+    EXPECT_EQ(w.nonManifoldVertices, vertices) << "trial " << trial;
+    // renumbered and reordered: the same counts
+    std::vector<int> perm(t.V.size());
+    std::iota(perm.begin(), perm.end(), 0);
+    std::shuffle(perm.begin(), perm.end(), rng);
+    TriData u;
+    u.V.resize(t.V.size());
+    for (size_t v = 0; v < t.V.size(); ++v) u.V[perm[v]] = t.V[v];
+    for (const auto& f : t.F) u.F.push_back({perm[f[1]], perm[f[2]], perm[f[0]]});
+    std::shuffle(u.F.begin(), u.F.end(), rng);
+    WorkingCopy x = vcgext::PrepareWorkingCopy(u);
+    EXPECT_EQ(x.nonManifoldEdges, edges);
+    EXPECT_EQ(x.nonManifoldVertices, vertices);
+  }
 }
 
 TEST(InputPrep, FarFromOriginWarnsAndAllDegenerateFails) {

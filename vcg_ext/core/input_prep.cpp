@@ -6,15 +6,9 @@
 #include <cstdio>
 #include <map>
 #include <numeric>
-#include <unordered_map>
 
 namespace vcgext {
 namespace {
-
-std::uint64_t EdgeKey(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
 
 int Find(std::vector<int>& p, int x) {
   while (p[x] != x) x = p[x] = p[p[x]];
@@ -73,40 +67,66 @@ struct EdgeFaces {
   std::vector<int> sideEdge;   // face * 3 + k -> edge id
   std::vector<int> offs, idx;  // edge id -> face sides (face * 3 + k)
 };
+// Bucketed by the lower end, sorted by the other end within a bucket (a vertex's few edges):
+// linear time, no hashing (a hash map of the edges took 0.8 s of the 2.2 s this preparation
+// took on 1.2 M triangles). Each edge's sides are listed in increasing order.
 EdgeFaces BuildEdgeFaces(const std::vector<Tri>& F) {
   EdgeFaces e;
-  std::unordered_map<std::uint64_t, int> id;
-  id.reserve(F.size() * 2);
-  e.sideEdge.resize(F.size() * 3);
-  for (size_t f = 0; f < F.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      auto it = id.emplace(EdgeKey(F[f][k], F[f][(k + 1) % 3]), int(id.size())).first;
-      e.sideEdge[f * 3 + k] = it->second;
+  const size_t nS = F.size() * 3;
+  int nV = 0;
+  for (const Tri& f : F) nV = std::max({nV, f[0] + 1, f[1] + 1, f[2] + 1});
+  std::vector<int> start(size_t(nV) + 1, 0);
+  for (const Tri& f : F)
+    for (int k = 0; k < 3; ++k) ++start[size_t(std::min(f[k], f[(k + 1) % 3])) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::pair<int, int>> byLow(nS);  // (higher end, side), bucketed by the lower end
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (size_t s = 0; s < nS; ++s) {
+      const Tri& f = F[s / 3];
+      const int a = f[s % 3], b = f[(s % 3 + 1) % 3];
+      byLow[fill[std::min(a, b)]++] = {std::max(a, b), int(s)};
     }
-  e.offs.assign(id.size() + 1, 0);
-  for (int s : e.sideEdge) ++e.offs[s + 1];
-  std::partial_sum(e.offs.begin(), e.offs.end(), e.offs.begin());
-  e.idx.resize(e.sideEdge.size());
-  std::vector<int> fill(e.offs.begin(), e.offs.end() - 1);
-  for (size_t s = 0; s < e.sideEdge.size(); ++s) e.idx[fill[e.sideEdge[s]]++] = int(s);
+  }
+  e.sideEdge.resize(nS);
+  e.idx.resize(nS);
+  e.offs.clear();
+  e.offs.reserve(nS / 2 + 1);
+  for (int v = 0; v < nV; ++v) {
+    std::sort(byLow.begin() + start[v], byLow.begin() + start[v + 1]);
+    for (int j = start[v]; j < start[v + 1]; ++j) {
+      if (j == start[v] || byLow[j].first != byLow[j - 1].first) e.offs.push_back(j);
+      e.idx[j] = byLow[j].second;
+      e.sideEdge[size_t(byLow[j].second)] = int(e.offs.size()) - 1;
+    }
+  }
+  e.offs.push_back(int(nS));
   return e;
 }
 
 // 3a. vertices whose incident faces form more than one fan (joined across manifold edges).
 int CountNonManifoldVertices(const std::vector<Tri>& F, const EdgeFaces& e, int nV) {
-  // faces sharing a manifold edge are in one fan at both its ends
-  std::vector<std::vector<int>> fansAt(nV);
-  for (size_t f = 0; f < F.size(); ++f)
-    for (int v : F[f]) fansAt[v].push_back(int(f));
+  // faces sharing a manifold edge are in one fan at both its ends; the faces at each vertex
+  // (increasing) in one array
+  std::vector<int> at(size_t(nV) + 1, 0), faces(F.size() * 3);
+  for (const Tri& f : F)
+    for (int v : f) ++at[size_t(v) + 1];
+  std::partial_sum(at.begin(), at.end(), at.begin());
+  {
+    std::vector<int> fill(at.begin(), at.end() - 1);
+    for (size_t f = 0; f < F.size(); ++f)
+      for (int v : F[f]) faces[fill[v]++] = int(f);
+  }
   std::vector<int> local;
   int bad = 0;
   for (int v = 0; v < nV; ++v) {
-    const auto& fs = fansAt[v];
-    if (fs.size() < 2) continue;
-    local.assign(fs.size(), 0);
+    const int* fs = faces.data() + at[v];
+    const int nf = at[v + 1] - at[v];
+    if (nf < 2) continue;
+    local.assign(size_t(nf), 0);
     std::iota(local.begin(), local.end(), 0);
-    auto slot = [&](int f) { return int(std::find(fs.begin(), fs.end(), f) - fs.begin()); };
-    for (size_t i = 0; i < fs.size(); ++i) {
+    auto slot = [&](int f) { return int(std::find(fs, fs + nf, f) - fs); };
+    for (int i = 0; i < nf; ++i) {
       const int f = fs[i];
       for (int k = 0; k < 3; ++k) {
         if (F[f][k] != v && F[f][(k + 1) % 3] != v) continue;
@@ -119,7 +139,7 @@ int CountNonManifoldVertices(const std::vector<Tri>& F, const EdgeFaces& e, int 
       }
     }
     int roots = 0;
-    for (size_t i = 0; i < fs.size(); ++i) roots += Find(local, int(i)) == int(i);
+    for (int i = 0; i < nf; ++i) roots += Find(local, i) == i;
     bad += roots > 1;
   }
   return bad;
