@@ -882,6 +882,10 @@ std::pair<double, double> AreaSampledDistance(const TriData& from, const EmbreeS
 }
 
 double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, const EmbreeScene& scene, double maxDist) {
+  return UnprojectablePercent(lim, EmbreeScene(lim.mesh), ref, scene, maxDist);
+}
+double UnprojectablePercent(const LimitTessellation& lim, const EmbreeScene& ls, const TriData& ref,
+                            const EmbreeScene& scene, double maxDist) {
   const int nT = int(ref.F.size());
   if (nT == 0) return 0.0;
   std::vector<unsigned char> reached(nT, 0);
@@ -894,7 +898,6 @@ double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, co
       reached[h.face] = 1;
     }
   }
-  EmbreeScene ls(lim.mesh);
   double total = 0, missed = 0;
 #pragma omp parallel reduction(+ : total, missed)
   {
@@ -980,7 +983,8 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
       Nm = std::max(p.limitSegments,
                     int(std::ceil(std::sqrt(2.0 * double(ref.F.size()) / std::max(ls.NumFaces(), 1)))));
     LimitTessellation dense = Nm == p.limitSegments ? r.limit : TessellateLimit(ls, ctrl, Nm);
-    auto el = ReferenceToSurfaceError(ref, dense.mesh);
+    const EmbreeScene denseScene(dense.mesh);  // one scene for the limit error and projectability
+    auto el = ReferenceToSurfaceError(ref, denseScene);
     const EmbreeScene displacedScene(r.displaced.mesh);  // one scene for both displaced checks
     auto ed = ReferenceToSurfaceError(ref, displacedScene);
     const double pm = diag > 0 ? 1000.0 / diag : 0.0;
@@ -997,7 +1001,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
     r.metrics.maxDisplacedToRefPermille = dr.second * pm;
     r.metrics.displacedFolds = FoldedTriangles(r.displaced);
     r.metrics.limitFolds = FoldedTriangles(dense);
-    r.metrics.unprojectablePct = UnprojectablePercent(dense, ref, scene, maxDist);
+    r.metrics.unprojectablePct = UnprojectablePercent(dense, denseScene, ref, scene, maxDist);
     r.times.emplace_back("metrics", Since(t));
     r.memory.emplace_back("metrics", StagePeakMemoryMb());
   }

@@ -211,6 +211,9 @@ std::pair<double, double> AreaSampledDistance(const TriData& from, const EmbreeS
 /// unmarked triangle gets a second chance from the closest point of its centroid on `lim`
 /// (interpolated normal). Cost: |lim| + unmarked ray casts.
 double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, const EmbreeScene& scene, double maxDist);
+/// Same, with a scene already built on `lim.mesh` (`limScene`).
+double UnprojectablePercent(const LimitTessellation& lim, const EmbreeScene& limScene, const TriData& ref,
+                            const EmbreeScene& scene, double maxDist);
 
 /// Parameters of FitAndBake.
 struct FitBakeParams {
