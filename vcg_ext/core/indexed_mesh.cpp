@@ -88,6 +88,23 @@ Adjacency VertexFaceAdjacency(const std::vector<Tri>& F, int nV) {
   return a;
 }
 
+std::vector<std::pair<int, int>> BoundaryHalfEdges(const TriData& m) {
+  const Adjacency vf = VertexFaceAdjacency(m.F, int(m.V.size()));
+  auto hasHalfEdge = [&](int a, int b) {  // some face at a has the side a -> b
+    for (const int* g = vf.Begin(a); g != vf.End(a); ++g) {
+      const Tri& t = m.F[*g];
+      for (int k = 0; k < 3; ++k)
+        if (t[k] == a && t[(k + 1) % 3] == b) return true;
+    }
+    return false;
+  };
+  std::vector<std::pair<int, int>> out;
+  for (const Tri& f : m.F)
+    for (int k = 0; k < 3; ++k)
+      if (!hasHalfEdge(f[(k + 1) % 3], f[k])) out.push_back({f[k], f[(k + 1) % 3]});
+  return out;
+}
+
 Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV) {
   std::vector<std::vector<int>> nb(nV);
   for (const auto& f : F)

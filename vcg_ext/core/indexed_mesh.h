@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vcgext {
@@ -56,6 +57,9 @@ struct Adjacency {
 };
 /// Vertex -> incident faces.
 Adjacency VertexFaceAdjacency(const std::vector<Tri>& F, int nV);
+/// Half-edges (a, b) of the faces whose twin (b, a) is in no face: the boundary of an oriented
+/// manifold, in face order (face by face, sides 01, 12, 20). Linear time (VertexFaceAdjacency).
+std::vector<std::pair<int, int>> BoundaryHalfEdges(const TriData& m);
 /// Vertex -> adjacent vertices (each once, through any incident face).
 Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV);
 

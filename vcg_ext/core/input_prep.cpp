@@ -106,22 +106,13 @@ EdgeFaces BuildEdgeFaces(const std::vector<Tri>& F) {
 
 // 3a. vertices whose incident faces form more than one fan (joined across manifold edges).
 int CountNonManifoldVertices(const std::vector<Tri>& F, const EdgeFaces& e, int nV) {
-  // faces sharing a manifold edge are in one fan at both its ends; the faces at each vertex
-  // (increasing) in one array
-  std::vector<int> at(size_t(nV) + 1, 0), faces(F.size() * 3);
-  for (const Tri& f : F)
-    for (int v : f) ++at[size_t(v) + 1];
-  std::partial_sum(at.begin(), at.end(), at.begin());
-  {
-    std::vector<int> fill(at.begin(), at.end() - 1);
-    for (size_t f = 0; f < F.size(); ++f)
-      for (int v : F[f]) faces[fill[v]++] = int(f);
-  }
+  // faces sharing a manifold edge are in one fan at both its ends
+  const Adjacency vf = VertexFaceAdjacency(F, nV);
   std::vector<int> local;
   int bad = 0;
   for (int v = 0; v < nV; ++v) {
-    const int* fs = faces.data() + at[v];
-    const int nf = at[v + 1] - at[v];
+    const int* fs = vf.Begin(v);
+    const int nf = vf.Count(v);
     if (nf < 2) continue;
     local.assign(size_t(nf), 0);
     std::iota(local.begin(), local.end(), 0);

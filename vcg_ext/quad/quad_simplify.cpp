@@ -146,25 +146,9 @@ class Simplifier {
     tol_ = p.solveTolPercent / 100.0 * diag_;
     FN_ = FaceNormals(in);
     // input boundary segments (half-edges without twin)
-    std::unordered_map<std::uint64_t, int> he;
-    auto key = [](int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); };
-    for (const auto& f : in.F)
-      for (int k = 0; k < 3; ++k) he[key(f[k], f[(k + 1) % 3])] = 1;
-    for (const auto& f : in.F)
-      for (int k = 0; k < 3; ++k)
-        if (!he.count(key(f[(k + 1) % 3], f[k]))) bseg_.push_back({f[k], f[(k + 1) % 3]});
+    bseg_ = BoundaryHalfEdges(in);
     // sharp corners of the start mesh's boundary (turn > boundaryCornerAngleDeg) are pinned
-    std::vector<std::pair<int, int>> sseg;
-    if (&start == &in) {
-      sseg = bseg_;
-    } else {
-      he.clear();
-      for (const auto& f : start.F)
-        for (int k = 0; k < 3; ++k) he[key(f[k], f[(k + 1) % 3])] = 1;
-      for (const auto& f : start.F)
-        for (int k = 0; k < 3; ++k)
-          if (!he.count(key(f[(k + 1) % 3], f[k]))) sseg.push_back({f[k], f[(k + 1) % 3]});
-    }
+    const std::vector<std::pair<int, int>> sseg = &start == &in ? bseg_ : BoundaryHalfEdges(start);
     pinned_.assign(start.V.size(), 0);
     std::vector<int> bnext(start.V.size(), -1), bprev(start.V.size(), -1);
     for (auto& [a, b] : sseg) { bnext[a] = b; bprev[b] = a; }
