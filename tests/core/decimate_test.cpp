@@ -18,6 +18,22 @@ int Euler(const TriData& t) {
     for (int k = 0; k < 3; ++k) e.insert(std::minmax(f[k], f[(k + 1) % 3]));
   return int(t.V.size()) - int(e.size()) + int(t.F.size());
 }
+// Boundary edges of a mesh of the unit square, each checked to lie on the square's border.
+int BorderEdgesOnTheSquare(const TriData& t) {
+  std::set<std::pair<int, int>> he;
+  for (const auto& f : t.F)
+    for (int k = 0; k < 3; ++k) he.insert({f[k], f[(k + 1) % 3]});
+  int boundary = 0;
+  for (const auto& [a, b] : he)
+    if (!he.count({b, a})) {
+      ++boundary;
+      for (int v : {a, b}) {
+        const auto& x = t.V[v];
+        EXPECT_LT(std::min({std::abs(x[0]), std::abs(x[0] - 1), std::abs(x[1]), std::abs(x[1] - 1)}), 1e-9);
+      }
+    }
+  return boundary;
+}
 }  // namespace
 
 TEST(WorkingResolution, SmallInputIsUsedAsItIs) {
@@ -60,21 +76,7 @@ TEST(WorkingResolution, OpenGridKeepsItsBoundary) {
   auto r = vcgext::WorkingResolution(g, p);
   ASSERT_TRUE(r.decimated);
   EXPECT_EQ(Euler(r.mesh), 1);
-  // boundary edges lie on the square's border
-  std::set<std::pair<int, int>> he;
-  for (const auto& f : r.mesh.F)
-    for (int k = 0; k < 3; ++k) he.insert({f[k], f[(k + 1) % 3]});
-  int boundary = 0;
-  for (const auto& [a, b] : he)
-    if (!he.count({b, a})) {
-      ++boundary;
-      for (int v : {a, b}) {
-        const auto& x = r.mesh.V[v];
-        double d = std::min({std::abs(x[0]), std::abs(x[0] - 1), std::abs(x[1]), std::abs(x[1] - 1)});
-        EXPECT_LT(d, 1e-9);
-      }
-    }
-  EXPECT_EQ(boundary, 240);  // the boundary is preserved: 4 x 60 edges
+  EXPECT_EQ(BorderEdgesOnTheSquare(r.mesh), 240);  // the boundary is preserved: 4 x 60 edges
 }
 
 namespace {
@@ -135,17 +137,7 @@ TEST(WorkingResolution, SplitDecimationKeepsTopologyAndAccuracy) {
   ASSERT_TRUE(r.split);
   EXPECT_EQ(Euler(r.mesh), 1);
   EXPECT_EQ(vcgext::PrepareWorkingCopy(r.mesh).error, "");
-  std::set<std::pair<int, int>> he;
-  for (const auto& f : r.mesh.F)
-    for (int k = 0; k < 3; ++k) he.insert({f[k], f[(k + 1) % 3]});
-  int boundary = 0;
-  for (const auto& [a, b] : he)
-    if (!he.count({b, a})) {
-      ++boundary;
-      const auto& x = r.mesh.V[a];
-      EXPECT_LT(std::min({std::abs(x[0]), std::abs(x[0] - 1), std::abs(x[1]), std::abs(x[1] - 1)}), 1e-9);
-    }
-  EXPECT_EQ(boundary, 4 * 160);
+  EXPECT_EQ(BorderEdgesOnTheSquare(r.mesh), 4 * 160);
 }
 
 // The simplification's start-mesh policy (ChooseStartMesh): which rule fired, the mesh it gives
