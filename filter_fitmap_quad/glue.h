@@ -49,6 +49,13 @@ constexpr int kMinWorkingFaces = 1000;
 /// An input with a vertex of higher valence starts from an isotropic remesh (decimate.h).
 constexpr int kMaxStartValence = 24;
 
+// By filter id, for both plugin classes (dispatch.cpp): the layers the filter changes
+// (postCondition mask), its parameters, its run (false with ctx.error set on failure: no
+// current layer, an unknown id, or the filter's own error).
+int PostConditionOf(int id);
+void InitParamsOf(int id, const MeshDocument& md, RichParameterList& par);
+bool ApplyOf(int id, GlueContext& ctx);
+
 // Compute Fitmaps (glue_fitmaps.cpp)
 void InitFitmapsParams(const MeshDocument& md, RichParameterList& par);
 bool ApplyFitmaps(GlueContext& ctx);

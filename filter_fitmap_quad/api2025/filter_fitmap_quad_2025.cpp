@@ -9,7 +9,6 @@
 
 #include "../filter_table.h"
 #include "../glue.h"
-#include "vcg_ext/core/memory.h"
 
 using namespace fitmapquad;
 
@@ -46,56 +45,23 @@ FilterPlugin::FilterArity FilterFitmapQuadPlugin::filterArity(const QAction*) co
 
 int FilterFitmapQuadPlugin::getPreConditions(const QAction*) const { return MeshModel::MM_NONE; }
 
-int FilterFitmapQuadPlugin::postCondition(const QAction* a) const {
-  switch (ID(a)) {
-    case FP_COMPUTE_FITMAPS:
-      return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
-    case FP_QUAD_SIMPLIFICATION:
-    case FP_FIT_AND_BAKE:
-    case FP_LOOP_REFINE:
-      return MeshModel::MM_NONE;  // the input layers are not modified; new layers are added
-    case FP_LOOP_SNAP:
-      return MeshModel::MM_VERTCOORD | MeshModel::MM_VERTQUALITY;
-    case FP_LOOP_CURVATURE:
-      return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
-  }
-  return MeshModel::MM_ALL;
-}
+int FilterFitmapQuadPlugin::postCondition(const QAction* a) const { return PostConditionOf(ID(a)); }
 
 RichParameterList FilterFitmapQuadPlugin::initParameterList(const QAction* a, const MeshDocument& md) {
   RichParameterList par;
-  switch (ID(a)) {
-    case FP_COMPUTE_FITMAPS: InitFitmapsParams(md, par); break;
-    case FP_QUAD_SIMPLIFICATION: InitQuadParams(md, par); break;
-    case FP_FIT_AND_BAKE: InitFitParams(md, par); break;
-    case FP_LOOP_REFINE: InitLoopRefineParams(md, par); break;
-    case FP_LOOP_SNAP: InitLoopSnapParams(md, par); break;
-    case FP_LOOP_CURVATURE: InitLoopCurvatureParams(md, par); break;
-  }
+  InitParamsOf(ID(a), md, par);
   return par;
 }
 
 std::map<std::string, QVariant> FilterFitmapQuadPlugin::applyFilter(const QAction* a, const RichParameterList& par,
                                                                     MeshDocument& md, unsigned int& /*postConditionMask*/,
                                                                     vcg::CallBackPos* cb) {
-  if (md.mm() == nullptr) {
-    log("Error: no current layer");
-    throw MLException("no current layer");
-  }
+  if (!Spec(ID(a))) wrongActionCalled(a);
   QString error;
   GlueContext ctx{md, par, cb, [this](const std::string& s) { log(s); }, error};
-  vcgext::StagePeakMemoryMb();  // the filter's stages measure their own peak memory from here
   bool ok = false;
   try {
-    switch (ID(a)) {
-      case FP_COMPUTE_FITMAPS: ok = ApplyFitmaps(ctx); break;
-      case FP_QUAD_SIMPLIFICATION: ok = ApplyQuad(ctx); break;
-      case FP_FIT_AND_BAKE: ok = ApplyFit(ctx); break;
-      case FP_LOOP_REFINE: ok = ApplyLoopRefine(ctx); break;
-      case FP_LOOP_SNAP: ok = ApplyLoopSnap(ctx); break;
-      case FP_LOOP_CURVATURE: ok = ApplyLoopCurvature(ctx); break;
-      default: wrongActionCalled(a);
-    }
+    ok = ApplyOf(ID(a), ctx);
   } catch (const MLException&) {
     throw;
   } catch (const std::exception& e) {
