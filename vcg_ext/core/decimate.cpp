@@ -51,6 +51,16 @@ class DCollapseT
   DCollapseT(const DPair& p, int i, vcg::BaseParameterClass* pp) : Base(p, i, pp) {}
 };
 
+// vcglib hands out per-vertex user bits from a static counter of the vertex type
+// (VertexType::NewBitFlag / DeleteBitFlag, which UpdateFlags::FaceBorderFromVF uses, also inside
+// the quadric collapse's Init and the isotropic remeshing): DMesh code that can run on two
+// threads at once (the two halves of DecimateSplit, concurrent callers of WorkingResolution)
+// holds this lock around those calls. The sanitizer build's vcglib assertion found the race.
+std::mutex& BitFlagLock() {
+  static std::mutex lock;
+  return lock;
+}
+
 // FNV-1a over the mesh's arrays and the parameters: identifies a repeated request.
 std::uint64_t Fingerprint(const TriData& m, const WorkingResolutionParams& p) {
   std::uint64_t h = 1469598103934665603ull;
@@ -142,6 +152,7 @@ DecimateResult Remesh(const TriData& m, int faces) {
   vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
   vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
+  std::lock_guard<std::mutex> g(BitFlagLock());
   vcg::tri::IsotropicRemeshing<DMesh>::Do(d, ref, ip);
   r.mesh = FromDMesh(d);
   return r;
@@ -199,10 +210,6 @@ namespace {
 // `from` to `to` percent.
 template <int K>
 void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackPos* cb, int from = 0, int to = 100) {
-  vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
-  vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
-  vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
-
   vcg::tri::TriEdgeCollapseQuadricParameter qp;
   qp.PreserveTopology = true;
   qp.FastPreserveBoundary = preserveBoundary;  // what MeshLab's filter uses for "Preserve Boundary"
@@ -211,7 +218,13 @@ void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackP
   qp.NormalCheck = true;
   qp.NormalThrRad = M_PI / 4.0;
   vcg::LocalOptimization<DMesh> session(d, &qp);
-  session.Init<DCollapseT<K>>();
+  {
+    std::lock_guard<std::mutex> g(BitFlagLock());
+    vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
+    vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
+    vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
+    session.Init<DCollapseT<K>>();
+  }
   session.SetTargetSimplices(target);
   session.SetTimeBudget(0.1f);  // returns ten times a second for progress
   const int toDelete = d.fn - target;
