@@ -261,14 +261,13 @@ void SplitInTwo(const TriData& m, DMesh half[2]) {
     for (size_t v = 0; v < m.V.size(); ++v)
       if (use[v] & (1 << h)) local[v] = nv++;
     for (unsigned char s : side) nf += s == h;
-    auto vi = vcg::tri::Allocator<DMesh>::AddVertices(half[h], nv);
+    vcg::tri::Allocator<DMesh>::AddVertices(half[h], nv);
     for (size_t v = 0; v < m.V.size(); ++v)
       if (local[v] >= 0) {
         DVertex& dv = half[h].vert[local[v]];
         dv.P() = vcg::Point3d(m.V[v][0], m.V[v][1], m.V[v][2]);
         dv.Q() = use[v] == 3 ? double(v) : -1.0;
       }
-    (void)vi;
     auto fi = vcg::tri::Allocator<DMesh>::AddFaces(half[h], nf);
     for (size_t f = 0; f < m.F.size(); ++f)
       if (side[f] == h) {

@@ -19,6 +19,41 @@ struct LimitSurface::Impl {
   std::vector<int> cvOffs;                           ///< control-point indices of face f: cvIdx[cvOffs[f]..cvOffs[f+1])
   std::vector<int> cvIdx;
   int maxCV = 0;
+
+  /// The limit stencil of face f at (u,v), derivatives up to `order`, one control point at a
+  /// time in increasing index order, duplicates merged (a small closed mesh can wrap a
+  /// neighbourhood onto itself): visit(index, weights) with weights[0..nd) = P, Du, Dv, Duu,
+  /// Duv, Dvv. No allocation for usual sizes. Stencil() stores what it visits, Evaluate() applies
+  /// it; both see the same sums in the same order.
+  template <class Visit>
+  void VisitStencil(int f, double u, double v, int order, Visit&& visit) const {
+    const auto& s = surfaces[f];
+    const int n = s.GetNumControlPoints();
+    const int nd = order == 0 ? 1 : order == 1 ? 3 : 6;
+    double local[6 * 64];
+    int localPerm[64];
+    std::vector<double> heap;
+    std::vector<int> heapPerm;
+    double* w = local;
+    int* perm = localPerm;
+    if (n * nd > int(sizeof(local) / sizeof(double))) { heap.resize(size_t(n) * nd); w = heap.data(); }
+    if (n > 64) { heapPerm.resize(n); perm = heapPerm.data(); }
+    const double uv[2] = {u, v};
+    if (order == 0) s.EvaluateStencil(uv, w);
+    else if (order == 1) s.EvaluateStencil(uv, w, w + n, w + 2 * n);
+    else s.EvaluateStencil(uv, w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n);
+    const int* idx = cvIdx.data() + cvOffs[f];
+    std::iota(perm, perm + n, 0);
+    std::sort(perm, perm + n, [&](int a, int b) { return idx[a] < idx[b]; });
+    for (int j = 0; j < n;) {
+      const int id = idx[perm[j]];
+      double acc[6];
+      for (int d = 0; d < nd; ++d) acc[d] = w[d * n + perm[j]];
+      for (++j; j < n && idx[perm[j]] == id; ++j)
+        for (int d = 0; d < nd; ++d) acc[d] += w[d * n + perm[j]];
+      visit(id, static_cast<const double*>(acc));
+    }
+  }
 };
 
 namespace {
@@ -298,78 +333,30 @@ bool LimitSurface::Stencil(int face, double u, double v, LimitStencil& out, int 
   out.index.clear();
   out.P.clear(); out.Du.clear(); out.Dv.clear(); out.Duu.clear(); out.Duv.clear(); out.Dvv.clear();
   if (!impl_ || face < 0 || face >= NumFaces() || order < 0 || order > 2) return false;
-  const auto& s = impl_->surfaces[face];
-  const int n = s.GetNumControlPoints();
   const int nd = order == 0 ? 1 : order == 1 ? 3 : 6;
-  // Scratch on the stack for typical sizes; heap otherwise.
-  double local[6 * 64];
-  std::vector<double> heap;
-  double* w = local;
-  if (n * nd > int(sizeof(local) / sizeof(double))) { heap.resize(size_t(n) * nd); w = heap.data(); }
-  const double uv[2] = {u, v};
-  if (order == 0) s.EvaluateStencil(uv, w);
-  else if (order == 1) s.EvaluateStencil(uv, w, w + n, w + 2 * n);
-  else s.EvaluateStencil(uv, w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n);
-
-  const int* idx = impl_->cvIdx.data() + impl_->cvOffs[face];
-  // Merge duplicate control points (a small closed mesh can wrap a neighbourhood onto itself).
-  std::vector<int> perm(n);
-  std::iota(perm.begin(), perm.end(), 0);
-  std::sort(perm.begin(), perm.end(), [&](int a, int b) { return idx[a] < idx[b]; });
   std::vector<double>* arr[6] = {&out.P, &out.Du, &out.Dv, &out.Duu, &out.Duv, &out.Dvv};
-  out.index.reserve(n);
-  for (int d = 0; d < nd; ++d) arr[d]->reserve(n);
-  for (int j = 0; j < n; ++j) {
-    int p = perm[j];
-    if (!out.index.empty() && out.index.back() == idx[p]) {
-      for (int d = 0; d < nd; ++d) arr[d]->back() += w[d * n + p];
-    } else {
-      out.index.push_back(idx[p]);
-      for (int d = 0; d < nd; ++d) arr[d]->push_back(w[d * n + p]);
-    }
-  }
+  impl_->VisitStencil(face, u, v, order, [&](int id, const double* wt) {
+    out.index.push_back(id);
+    for (int d = 0; d < nd; ++d) arr[d]->push_back(wt[d]);
+  });
   return true;
 }
 
 bool LimitSurface::Evaluate(int face, double u, double v, const std::vector<Vec3>& ctrl, Vec3* P, Vec3* Du,
                             Vec3* Dv, Vec3* Duu, Vec3* Duv, Vec3* Dvv) const {
   if (int(ctrl.size()) != numVertices_) return false;
-  const int order = (Duu || Duv || Dvv) ? 2 : (Du || Dv) ? 1 : 0;
   if (!impl_ || face < 0 || face >= NumFaces()) return false;
-  // Stencil()'s weights and merge of duplicate control points, applied as they come: no
-  // allocation for usual sizes (this runs per texel, per tessellation vertex and per fit
-  // sample). The sums run in Stencil()'s order, so the result is the same to the last bit as
-  // applying Stencil()'s output (tests/subdiv compare the two).
-  const auto& s = impl_->surfaces[face];
-  const int n = s.GetNumControlPoints();
+  const int order = (Duu || Duv || Dvv) ? 2 : (Du || Dv) ? 1 : 0;
   const int nd = order == 0 ? 1 : order == 1 ? 3 : 6;
-  double local[6 * 64];
-  int localPerm[64];
-  std::vector<double> heap;
-  std::vector<int> heapPerm;
-  double* w = local;
-  int* perm = localPerm;
-  if (n * nd > int(sizeof(local) / sizeof(double))) { heap.resize(size_t(n) * nd); w = heap.data(); }
-  if (n > 64) { heapPerm.resize(n); perm = heapPerm.data(); }
-  const double uv[2] = {u, v};
-  if (order == 0) s.EvaluateStencil(uv, w);
-  else if (order == 1) s.EvaluateStencil(uv, w, w + n, w + 2 * n);
-  else s.EvaluateStencil(uv, w, w + n, w + 2 * n, w + 3 * n, w + 4 * n, w + 5 * n);
-  const int* idx = impl_->cvIdx.data() + impl_->cvOffs[face];
-  std::iota(perm, perm + n, 0);
-  std::sort(perm, perm + n, [&](int a, int b) { return idx[a] < idx[b]; });
   Vec3* out[6] = {P, Du, Dv, Duu, Duv, Dvv};
   for (int d = 0; d < nd; ++d)
     if (out[d]) out[d]->setZero();
-  for (int j = 0; j < n;) {
-    const int id = idx[perm[j]];
-    double acc[6];
-    for (int d = 0; d < nd; ++d) acc[d] = w[d * n + perm[j]];
-    for (++j; j < n && idx[perm[j]] == id; ++j)
-      for (int d = 0; d < nd; ++d) acc[d] += w[d * n + perm[j]];
+  // the stencil applied as it comes (this runs per texel, tessellation vertex and fit sample):
+  // the same sums as applying Stencil()'s output (tests/subdiv compare the two to the last bit)
+  impl_->VisitStencil(face, u, v, order, [&](int id, const double* wt) {
     for (int d = 0; d < nd; ++d)
-      if (out[d]) *out[d] += acc[d] * ctrl[id];
-  }
+      if (out[d]) *out[d] += wt[d] * ctrl[id];
+  });
   return true;
 }
 
