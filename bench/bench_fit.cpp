@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
     else if (k == "dfit") p.fitDisplacement = v != 0;
     else if (k == "adapt") p.adaptiveTiles = v != 0;
     else if (k == "N") p.limitSegments = int(v);
+    else if (k == "Nm") p.metricSegments = int(v);
     else if (k == "danchor") p.displacementFit.anchorWeight = v;
     else if (k == "diters") p.displacementFit.iterations = int(v);
     else if (k == "method") p.fit.method = v == 0 ? FitMethod::PointToPoint : FitMethod::TangentDistance;
@@ -125,7 +126,7 @@ int main(int argc, char** argv) {
   if (pos.size() < 2) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
-                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [dfit=0|1 least-squares displacement] [adapt=0|1 tile size per patch] [danchor=anchor weight] [diters=rounds] "
+                 "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [Nm=metric segments, 0 auto] [dfit=0|1 least-squares displacement] [adapt=0|1 tile size per patch] [danchor=anchor weight] [diters=rounds] "
                  "[method=0 point-to-point | 1 tangent distance]\n",
                  argv[0]);
     return 2;

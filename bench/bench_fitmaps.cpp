@@ -2,10 +2,12 @@
 // runs, and its agreement with Reference mode on a random vertex subset (Spearman rank
 // correlation of S and of M, median relative difference).
 //
-// Usage: bench_fitmaps [MESH] [--runs N] [--ref N] [--tau PCT] [--seed S] [--threads T] [--flip K] [--points P] [--spoints P] [--slevel L] [--coverage] [--ref-factor F] [--dump K]
+// Usage: bench_fitmaps [MESH] [--runs N] [--ref N] [--tau PCT] [--seed S] [--threads T] [--flip K] [--points P] [--spoints P] [--slevel L] [--coverage] [--ref-factor F] [--dump K] [--hash]
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else .deps/data/meshes/bunny00.off).
 //   --ref-factor F: Reference mode's M sample factor (paper: 4).
 //   --ref 0 skips the reference comparison; --dump K prints per-radius values of K subset vertices.
+//   --hash prints an FNV-1a hash of the S and M arrays (fast, and reference on the subset): a refactor
+//   must keep them bit for bit.
 #include <omp.h>
 
 #include <algorithm>
@@ -54,6 +56,14 @@ double Pearson(const std::vector<double>& a, const std::vector<double>& b) {
 
 double Spearman(const std::vector<double>& a, const std::vector<double>& b) { return Pearson(Ranks(a), Ranks(b)); }
 
+// FNV-1a over the bytes of the values.
+unsigned long long Fnv(const std::vector<double>& v) {
+  unsigned long long h = 1469598103934665603ull;
+  const auto* b = reinterpret_cast<const unsigned char*>(v.data());
+  for (size_t i = 0; i < v.size() * sizeof(double); ++i) h = (h ^ b[i]) * 1099511628211ull;
+  return h;
+}
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -72,6 +82,7 @@ double MedianRelDiff(const std::vector<double>& fast, const std::vector<double>&
 int main(int argc, char** argv) {
   std::string path;
   int runs = 5, refCount = 1000, threads = 0, dump = 0;
+  bool hash = false;
   double refFactor = 4.0;
   vcgext::FitmapParams p;
   for (int i = 1; i < argc; ++i) {
@@ -89,6 +100,7 @@ int main(int argc, char** argv) {
     else if (a == "--spoints") p.fastPointsPerSFit = std::atoi(next().c_str());
     else if (a == "--ref-factor") refFactor = std::atof(next().c_str());
     else if (a == "--dump") dump = std::atoi(next().c_str());
+    else if (a == "--hash") hash = true;
     else if (a == "--help" || a == "-h") {
       std::printf("usage: %s [MESH] [--runs N] [--ref N] [--tau PCT] [--seed S] [--threads T]\n", argv[0]);
       return 0;
@@ -139,6 +151,7 @@ int main(int argc, char** argv) {
                 100.0 * std::count(M.begin(), M.end(), fast.radii.back()) / M.size(),
                 100.0 * std::count(M.begin(), M.end(), fast.radii.front()) / M.size());
   }
+  if (hash) std::printf("hash fast S %016llx M %016llx\n", Fnv(fast.S), Fnv(fast.M));
   if (refCount == 0) return 0;
 
   vcgext::FitmapParams rp = p;
@@ -154,6 +167,7 @@ int main(int argc, char** argv) {
   rp.keepPerRadius = dump > 0;
   vcgext::FitmapResult ref = vcgext::ComputeFitmaps(m, scene, rp);
   if (!ref.error.empty()) { std::fprintf(stderr, "error: %s\n", ref.error.c_str()); return 1; }
+  if (hash) std::printf("hash reference S %016llx M %016llx\n", Fnv(ref.S), Fnv(ref.M));
   std::vector<double> fs, rs, fm, rm;
   for (int v : all) {
     fs.push_back(fast.S[v]);

@@ -1,22 +1,26 @@
 #!/usr/bin/env bash
 # Benchmark of the whole pipeline (a command that prints figures, not a test):
-#   bench/pipeline_bench.sh [--runs N] [MESH ...]
+#   bench/pipeline_bench.sh [--runs N] [--patches N1,N2,...] [MESH ...]
 # For each mesh (default: bunny00 elephant fandisk from the libcgal-demo data) runs
 # meshlab_scripts/run_pipeline.sh at tau = 1% and 10% (median of N runs, default 3), plus a
 # baseline made only of MeshLab's stock filters: quadric edge collapse to twice the tau = 1%
 # patch count in triangles -> "Tri to Quad by smart triangle pairing" -> our fit and bake
-# (the paper's simplify-then-fit competitor). Prints rows like the paper's Tables 1 and 2:
+# (the paper's simplify-then-fit competitor). With --patches: instead of the two tau, this
+# product at each patch budget (`run_pipeline.sh --patches N`) and the baseline decimated to 2N
+# triangles (issue 13's equal-count comparison). Prints rows like the paper's Tables 1 and 2:
 # patches, irregular vertices, unprojectable %, RMS limit / displaced error (1/1000 of the
 # bbox diagonal), per-stage wall time, peak memory. Uses the installed plugin (run
 # scripts/setup.sh first, or any of the two README commands).
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 RUNS=3
+PATCHLIST=""
 meshes=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --runs) RUNS="$2"; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    --patches) PATCHLIST="$2"; shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) meshes+=("$1"); shift ;;
   esac
 done
@@ -27,18 +31,19 @@ trap 'rm -rf "$work"' EXIT
 results="$work/results.tsv"
 : > "$results"
 
-run_ours() {  # mesh tau run -> appends "mesh\ttau\trun\twall\treport-path"
-  local mesh=$1 tau=$2 run=$3 out="$work/$(basename "$1" .off)_$2_$3"
-  local t0 t1
+run_ours() {  # mesh tau run [patches] -> appends "mesh\talg\trun\twall\treport-path"
+  local mesh=$1 tau=$2 run=$3 budget=${4:-0} out="$work/$(basename "$1" .off)_$2_$3_${4:-0}"
+  local t0 t1 alg="ours $tau%"
+  [ "$budget" -gt 0 ] && alg="ours @$budget"
   t0=$(date +%s.%N)
-  FITMAP_SKIP_SETUP=1 "$REPO/meshlab_scripts/run_pipeline.sh" --tau "$tau" "$mesh" "$out" > "$out.log" 2>&1 \
-    || { echo "pipeline failed on $mesh (tau $tau): see $out.log" >&2; tail -5 "$out.log" >&2; return 1; }
+  FITMAP_SKIP_SETUP=1 "$REPO/meshlab_scripts/run_pipeline.sh" --tau "$tau" --patches "$budget" "$mesh" "$out" > "$out.log" 2>&1 \
+    || { echo "pipeline failed on $mesh (tau $tau, patches $budget): see $out.log" >&2; tail -5 "$out.log" >&2; return 1; }
   t1=$(date +%s.%N)
-  printf '%s\t%s\t%s\t%s\t%s\n' "$(basename "$mesh")" "ours $tau%" "$run" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{print b-a}')" "$out/report.json" >> "$results"
+  printf '%s\t%s\t%s\t%s\t%s\n' "$(basename "$mesh")" "$alg" "$run" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{print b-a}')" "$out/report.json" >> "$results"
 }
 
-run_baseline() {  # mesh faces run
-  local mesh=$1 faces=$2 run=$3 out="$work/$(basename "$1" .off)_base_$3"
+run_baseline() {  # mesh faces run [label]
+  local mesh=$1 faces=$2 run=$3 label=${4:-stock QEC+pairing} out="$work/$(basename "$1" .off)_base_$2_$3"
   mkdir -p "$out"
   sed -e "s|value=\"[^\"]*\" name=\"outputDir\"|value=\"$out\" name=\"outputDir\"|" \
       -e "s|value=\"[^\"]*\" name=\"TargetFaceNum\"|value=\"$faces\" name=\"TargetFaceNum\"|" \
@@ -48,16 +53,26 @@ run_baseline() {  # mesh faces run
   "$REPO/scripts/meshlabserver.sh" -i "$mesh" -i "$mesh" -o "$out/control.ply" -l 1 -m ff -s "$out/baseline.mlx" \
     > "$out.log" 2>&1 || { echo "baseline failed on $mesh ($faces faces): $(grep -m1 'Error:' "$out.log")" >&2; return 1; }
   t1=$(date +%s.%N)
-  printf '%s\t%s\t%s\t%s\t%s\n' "$(basename "$mesh")" "stock QEC+pairing" "$run" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{print b-a}')" "$out/report.json" >> "$results"
+  printf '%s\t%s\t%s\t%s\t%s\n' "$(basename "$mesh")" "$label" "$run" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{print b-a}')" "$out/report.json" >> "$results"
 }
 
 for mesh in "${meshes[@]}"; do
   [ -f "$mesh" ] || { echo "no such mesh: $mesh" >&2; exit 2; }
+  if [ -n "$PATCHLIST" ]; then
+    for n in ${PATCHLIST//,/ }; do
+      for r in $(seq "$RUNS"); do
+        run_ours "$mesh" 1 "$r" "$n"
+        run_baseline "$mesh" $((2 * n)) "$r" "stock @$n" || run_baseline "$mesh" $((2 * n + 10)) "$r" "stock @$n" \
+          || echo "baseline run $r on $(basename "$mesh") at $n skipped" >&2
+      done
+    done
+    continue
+  fi
   for tau in 1 10; do
     for r in $(seq "$RUNS"); do run_ours "$mesh" "$tau" "$r"; done
   done
   patches=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['patches'])" \
-            "$work/$(basename "$mesh" .off)_1_1/report.json")
+            "$work/$(basename "$mesh" .off)_1_1_0/report.json")
   # MeshLab's stock pairing can leave a degenerate quad (a face repeating a vertex), which our
   # fit rejects with an error: then retry with a slightly different decimation target.
   for r in $(seq "$RUNS"); do

@@ -255,3 +255,37 @@ TEST(InputPrep, CoordinatesBeyondTheRayCastersRangeAreAClearError) {
     EXPECT_NE(w.error.find("scale the mesh down"), std::string::npos) << w.error;
   }
 }
+
+// A large layer's working copy is kept for the next filter of a pipeline (input_prep.h): the same
+// arrays give the same copy, any change of them a fresh one (compared with a mesh prepared
+// after another mesh pushed it out).
+TEST(InputPrep, RepeatedLargeLayerGivesTheSameCopyAndAChangedOneAFreshCopy) {
+  TriData big = testsupport::PlaneGrid(330, 330);  // 217 800 triangles: above the memo's 200k
+  for (size_t i = 0; i < big.F.size(); i += 1000) std::swap(big.F[i][1], big.F[i][2]);  // to repair
+  ASSERT_GE(big.F.size(), 200000u);
+  const WorkingCopy a = vcgext::PrepareWorkingCopy(big);
+  const WorkingCopy b = vcgext::PrepareWorkingCopy(big);
+  ASSERT_EQ(a.error, "");
+  EXPECT_GT(a.flippedFaces, 0);
+  EXPECT_EQ(b.mesh.V, a.mesh.V);
+  EXPECT_EQ(b.mesh.F, a.mesh.F);
+  EXPECT_EQ(b.liveToMesh, a.liveToMesh);
+  EXPECT_EQ(b.notes, a.notes);
+  EXPECT_EQ(b.flippedFaces, a.flippedFaces);
+  // one coordinate changed: not the kept copy
+  TriData moved = big;
+  moved.V[12345][2] += 0.25;
+  const WorkingCopy c = vcgext::PrepareWorkingCopy(moved);
+  ASSERT_EQ(c.error, "");
+  ASSERT_EQ(c.mesh.V.size(), a.mesh.V.size());
+  EXPECT_NE(c.mesh.V, a.mesh.V);
+  // one face changed (re-oriented): not the kept copy either
+  TriData flipped = big;
+  std::swap(flipped.F[7][1], flipped.F[7][2]);
+  const WorkingCopy d = vcgext::PrepareWorkingCopy(flipped);
+  EXPECT_EQ(d.flippedFaces, a.flippedFaces + 1);
+  // and the first mesh again, after the others: the same copy as the first time
+  const WorkingCopy e = vcgext::PrepareWorkingCopy(big);
+  EXPECT_EQ(e.mesh.F, a.mesh.F);
+  EXPECT_EQ(e.flippedFaces, a.flippedFaces);
+}

@@ -76,9 +76,10 @@ std::uint64_t Fingerprint(const TriData& m, const WorkingResolutionParams& p) {
   return h;
 }
 
-// The two latest decimations of this process: in a MeshLab pipeline "Compute Fitmaps" and
-// "Fitmap Quad Simplification" both need M' of the same layer, and on 5 M triangles one
-// decimation takes a minute. Kept: two small meshes.
+// The three latest decimations of this process: in a MeshLab pipeline "Compute Fitmaps" and
+// "Fitmap Quad Simplification" both need M' of the same layer (M'_F, M'_S and the count pass's
+// start, quad_simplify.h), and on 5 M triangles one decimation takes a minute. Kept: three
+// small meshes.
 struct Decimation {
   std::uint64_t key = 0;
   size_t nv = 0, nf = 0;
@@ -86,7 +87,7 @@ struct Decimation {
 };
 struct RecentDecimations {
   std::mutex lock;
-  Decimation slot[2];  ///< [0] the most recent
+  Decimation slot[3];  ///< [0] the most recent
 };
 RecentDecimations& Memo() {
   static RecentDecimations memo;
@@ -200,6 +201,7 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
   }
   r = Decimate(m, p, cb);
   std::lock_guard<std::mutex> g(memo.lock);
+  memo.slot[2] = std::move(memo.slot[1]);
   memo.slot[1] = std::move(memo.slot[0]);
   memo.slot[0] = Decimation{key, m.V.size(), m.F.size(), r};
   return r;

@@ -50,7 +50,7 @@ struct DecimateResult {
 /// maxValence). Preconditions: manifold, oriented (a WorkingCopy). The result
 /// keeps the genus, components and boundary loops (vcglib's PreserveTopology / boundary
 /// options); it may stop above the target where no valid collapse is left. Cost O(F log F).
-/// The two latest results are kept (small meshes) and returned again for the same mesh and
+/// The three latest results are kept (small meshes) and returned again for the same mesh and
 /// parameters (exact fingerprint of the arrays): the Fitmaps and the simplification of one
 /// pipeline share one decimation. Thread-safe.
 DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p,

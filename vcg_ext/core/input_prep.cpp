@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <mutex>
 #include <map>
 #include <numeric>
 
@@ -207,7 +209,60 @@ namespace {
 WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge);
 }  // namespace
 
+namespace {
+// The latest working copy of a large layer: the three pipeline filters each prepare the same
+// layer (bunny00 x16, 1.2 M triangles: ~0.5 s each). Identified by the exact contents of `raw`
+// (a 64-bit hash of its arrays, plus their sizes); one copy is kept.
+constexpr size_t kMemoMinFaces = 200000;
+struct PreparedMemo {
+  std::mutex lock;
+  std::uint64_t key = 0;
+  size_t nv = 0, nf = 0;
+  WorkingCopy w;
+};
+PreparedMemo& Prepared() {
+  static PreparedMemo memo;
+  return memo;
+}
+std::uint64_t HashArrays(const TriData& raw) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto eat = [&](const void* data, size_t bytes) {
+    const unsigned char* b = static_cast<const unsigned char*>(data);
+    size_t i = 0;
+    for (; i + 8 <= bytes; i += 8) {
+      std::uint64_t x;
+      std::memcpy(&x, b + i, 8);
+      h = (h ^ x) * 1099511628211ull;
+      h ^= h >> 29;
+    }
+    for (; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  eat(raw.V.data(), raw.V.size() * sizeof(Vec3));
+  eat(raw.F.data(), raw.F.size() * sizeof(Tri));
+  return h;
+}
+WorkingCopy PrepareUncached(const TriData& raw);
+}  // namespace
+
 WorkingCopy PrepareWorkingCopy(const TriData& raw) {
+  if (raw.F.size() < kMemoMinFaces) return PrepareUncached(raw);
+  const std::uint64_t key = HashArrays(raw);
+  PreparedMemo& memo = Prepared();
+  {
+    std::lock_guard<std::mutex> g(memo.lock);
+    if (memo.key == key && memo.nv == raw.V.size() && memo.nf == raw.F.size()) return memo.w;
+  }
+  WorkingCopy w = PrepareUncached(raw);
+  std::lock_guard<std::mutex> g(memo.lock);
+  memo.key = key;
+  memo.nv = raw.V.size();
+  memo.nf = raw.F.size();
+  memo.w = w;
+  return w;
+}
+
+namespace {
+WorkingCopy PrepareUncached(const TriData& raw) {
   WorkingCopy w = PrepareWorkingCopyImpl(raw, true);
   if (w.mergedVertices > 0 && (w.nonManifoldEdges > 0 || w.nonManifoldVertices > 0)) {
     // Coincident vertices can be distinct on purpose (a scan touching itself at a point, the
@@ -225,6 +280,7 @@ WorkingCopy PrepareWorkingCopy(const TriData& raw) {
   if (!w.error.empty() && !w.warnings.empty()) w.error += " (" + w.warnings.front() + ")";
   return w;
 }
+}  // namespace
 
 namespace {
 WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {

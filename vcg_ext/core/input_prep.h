@@ -47,7 +47,9 @@ struct WorkingCopy {
 };
 
 /// Builds the working copy from `raw` (the layer's live vertices in order and its faces, as
-/// ImportTriangles gives them; faces may repeat vertices). Cost O(F log F).
+/// ImportTriangles gives them; faces may repeat vertices). Cost O(F log F). The latest result
+/// for a mesh of 200k triangles or more is kept and returned again for the same arrays (the
+/// pipeline's three filters prepare the same layer). Thread-safe.
 WorkingCopy PrepareWorkingCopy(const TriData& raw);
 
 /// Per-live-vertex values from per-mesh-vertex ones (`fill` where a vertex has none).
