@@ -41,6 +41,7 @@ inline const char* kMode = "mode";                    ///< enum: 0 = fast, 1 = r
 // Fitmap Quad Simplification (also kTau)
 inline const char* kTargetPatches = "targetPatches";      ///< int, 0 = until no feasible collapse
 inline const char* kUseMFitmap = "useMFitmap";            ///< bool
+inline const char* kEqualizedLayout = "equalizedLayout";  ///< bool: the paper's count on an S-fitmap layout
 inline const char* kEdgeSwaps = "edgeSwaps";              ///< bool
 inline const char* kGuard = "thinPartGuard";              ///< float, fraction of F_M (0 = off)
 inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)
@@ -55,6 +56,7 @@ inline const char* kMaxDistPerc = "maxDistPerc";          ///< float, % of bbox 
 inline const char* kFitIterations = "fitIterations";      ///< int
 inline const char* kSmoothWeight = "smoothWeight";        ///< float, control-net Laplacian weight (0 = off)
 inline const char* kFitDisplacement = "fitDisplacement";  ///< bool, least-squares texels (else point samples)
+inline const char* kRendererGrid = "rendererGrid";  ///< bool, bake for a renderer's uniform subdivision (Blender)
 inline const char* kAdaptiveTiles = "adaptiveTiles";  ///< bool, automatic R: tile sizes per patch (else one R)
 inline const char* kOutputDir = "outputDir";              ///< string, folder for textures/OBJ/report
 // Loop Surrogate filters

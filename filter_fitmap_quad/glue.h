@@ -6,6 +6,7 @@
 #include "ml_compat.h"
 
 #include <functional>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +21,10 @@ struct GlueContext {
   vcg::CallBackPos* cb;
   std::function<void(const std::string&)> log;
   QString& error;
+  /// Figures a filter returns to its caller (PyMeshLab 2022.02+ gets them as the dict that
+  /// `MeshSet.apply_filter` returns; MeshLab 2020.09's interface has no return values).
+  std::map<std::string, double> values = {};
+  void Value(const std::string& key, double v) { values[key] = v; }
   /// Records an error for the GUI/meshlabserver and the log; returns false for `return Fail(..)`.
   bool Fail(const std::string& msg) {
     error = QString::fromStdString(msg);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <QString>
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 
@@ -22,11 +23,19 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
                          "with this tau; otherwise they are computed (default radii, fast mode) "
                          "without modifying the layer."));
   par.addParam(RichInt(param::kTargetPatches, d.targetPatches, "Target patches (0 = automatic)",
-                       "Stop at this many patches; 0 simplifies until no feasible collapse is left "
-                       "(the paper's halting criterion)."));
+                       "Stop at this many patches (with the equalized layout the budget is reached "
+                       "whatever tau: the M-fitmap test is not applied); 0 = the count of the paper's "
+                       "halting criterion (simplify until no feasible collapse is left)."));
   par.addParam(RichBool(param::kUseMFitmap, d.useMFitmap, "M-fitmap test",
                         "Refuse collapses that make a patch larger than the M-fitmap allows "
                         "(projectability). Off: only the S-fitmap cost; needs a target count."));
+  par.addParam(RichBool(param::kEqualizedLayout, d.layout == vcgext::QuadSimplifyParams::Layout::Equalized,
+                        "Equalized layout (the paper's count)",
+                        "With target 0 and the M-fitmap test: the paper's halting is run on a coarse "
+                        "start mesh only to count its patches, and that many patches are then laid out "
+                        "by the S-fitmap cost alone (sizes follow the fitting error, not projectability). "
+                        "Off: the paper literally (collapse until the M-fitmap blocks every collapse); "
+                        "about 2x the limit error on bunny00 (docs/quad.md, Layout)."));
   par.addParam(RichBool(param::kEdgeSwaps, d.edgeSwaps, "Edge swaps",
                         "Valence-improving edge swaps after each collapse (fewer irregular vertices)."));
   par.addParam(RichFloat(param::kGuard, float(d.deviationFactor), "Thin-part guard (x F_M, 0 = off)",
@@ -50,9 +59,14 @@ bool ApplyQuad(GlueContext& ctx) {
   const double tau = ctx.par.getFloat(param::kTau);
   p.targetPatches = ctx.par.getInt(param::kTargetPatches);
   p.useMFitmap = ctx.par.getBool(param::kUseMFitmap);
+  p.layout = ctx.par.getBool(param::kEqualizedLayout) ? vcgext::QuadSimplifyParams::Layout::Equalized
+                                                      : vcgext::QuadSimplifyParams::Layout::PaperHalting;
   p.edgeSwaps = ctx.par.getBool(param::kEdgeSwaps);
   p.validateEveryOperation = ctx.par.getBool(param::kValidate);
   p.deviationFactor = ctx.par.getFloat(param::kGuard);
+  // Coverage guard at 5 tau (the count let the limit stray five times the tolerance), at most
+  // 10 % of the diagonal (docs/robustness.md "Closed thin shapes").
+  p.coverageRmsPermille = std::min(50.0 * tau, 100.0);
   const int workingFaces = ctx.par.getInt(param::kWorkingFaces);
   if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
@@ -127,6 +141,7 @@ bool ApplyQuad(GlueContext& ctx) {
   out->updateDataMask(MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.quads, out->cm);
   UpdateBoxAndNormals(*out);
+  if (r.countPatches > 0) times.push_back({"count_pass", r.secondsCount});
   times.push_back({"tri_to_quad", r.secondsTriToQuad});
   times.push_back({"initial_fit", r.secondsInitialFit});
   times.push_back({"simplification", r.secondsSimplify});
@@ -149,6 +164,41 @@ bool ApplyQuad(GlueContext& ctx) {
       << r.secondsInitialFit << " s, simplification " << r.secondsSimplify << " s, total "
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s";
   ctx.log(log.str());
+  ctx.Value("patches", r.patches);
+  ctx.Value("irregular_vertices", r.irregularVertices);
+  ctx.Value("initial_patches", r.initialPatches);
+  ctx.Value("count_patches", r.countPatches);
+  ctx.Value("kept_paper_layout", r.keptPaperLayout ? 1 : 0);
+  ctx.Value("seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  if (r.countPatches > 0) {
+    const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
+    std::ostringstream c;
+    c << "Fitmap Quad Simplification: " << r.countPatches << " patches from the paper's halting (M-fitmap test) on a "
+      << r.countStartFaces << "-triangle start mesh; ";
+    if (r.keptPaperLayout)
+      c << "kept that cage: its interpolating limit is closer to the input than the equalized layout's (RMS "
+        << r.paperLayoutRms * pm << " vs " << r.equalizedLayoutRms * pm << " per mille)";
+    else
+      c << "those patches laid out by the S-fitmap cost alone (equalized layout"
+        << (r.paperLayoutRms > 0 ? ", interpolating limit RMS " : "")
+        << (r.paperLayoutRms > 0 ? std::to_string(r.equalizedLayoutRms * pm) + " vs the paper's " +
+                                       std::to_string(r.paperLayoutRms * pm) + " per mille"
+                                 : std::string())
+        << "; the M-fitmap refusals above are the counting pass's)";
+    c << "; the other pass took " << r.secondsCount << " s";
+    ctx.log(c.str());
+  }
+  ctx.Value("coverage_relayouts", r.coverageRelayouts);
+  if (r.coverageRelayouts > 0) {
+    const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
+    std::ostringstream g;
+    g << "Fitmap Quad Simplification: the " << r.coverageFromPatches << "-patch cage did not cover the input "
+      << "(its interpolating limit stays " << r.coverageFromRms * pm
+      << " per mille of the diagonal from it, RMS, more than 5 tau: the M-fitmap did not stop the collapses, as "
+         "on thin closed parts and sharp solids); laid out again with "
+      << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille)";
+    ctx.log(g.str());
+  }
   if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);
   return true;
 }

@@ -68,7 +68,9 @@ std::map<std::string, QVariant> FilterFitmapQuadPlugin::applyFilter(const QActio
     ctx.Fail(std::string("internal error: ") + e.what());
   }
   if (!ok) throw MLException(error.isEmpty() ? QString("unknown filter") : error);
-  return {};
+  std::map<std::string, QVariant> out;
+  for (const auto& [k, v] : ctx.values) out[k] = QVariant(v);
+  return out;
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterFitmapQuadPlugin)

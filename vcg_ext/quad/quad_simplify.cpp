@@ -9,12 +9,15 @@
 #endif
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <queue>
 #include <unordered_map>
 
+#include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/progress.h"
 #include "vcg_ext/quad/cc_limit.h"
 #include "vcg_ext/quad/quad_mesh.h"
+#include "vcg_ext/subdiv/limit_surface.h"
 
 namespace vcgext {
 
@@ -819,43 +822,41 @@ class Simplifier {
 
 }  // namespace
 
-QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
-                                   const std::vector<double>& M, const QuadSimplifyParams& params,
-                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
-                                   const TriData* startMesh) {
-  QuadSimplifyResult res;
-  const TriData& start = startMesh ? *startMesh : input;
-  if (startMesh && initialQuads && !initialQuads->empty()) {
-    res.error = "initial quads and a start mesh cannot both be given";
-    return res;
-  }
-  if (start.V.empty() || start.F.empty()) { res.error = "the start mesh is empty"; return res; }
-  const auto t0 = Clock::now();
+namespace {
+
+// What SimplifyToQuads refuses before any work (empty string: nothing).
+std::string CheckInputs(const TriData& input, const TriData& start, const EmbreeScene& scene, const std::vector<double>& S,
+                        const std::vector<double>& M, bool startAndQuads) {
+  if (startAndQuads) return "initial quads and a start mesh cannot both be given";
+  if (start.V.empty() || start.F.empty()) return "the start mesh is empty";
   const int nv = int(input.V.size());
-  if (input.V.empty() || input.F.empty()) { res.error = "the input mesh is empty"; return res; }
-  if (int(S.size()) != nv || int(M.size()) != nv) {
-    res.error = "fitmap size mismatch: " + std::to_string(S.size()) + " S and " + std::to_string(M.size()) +
-                " M values for " + std::to_string(nv) + " vertices (compute the Fitmaps first)";
-    return res;
-  }
+  if (input.V.empty() || input.F.empty()) return "the input mesh is empty";
+  if (int(S.size()) != nv || int(M.size()) != nv)
+    return "fitmap size mismatch: " + std::to_string(S.size()) + " S and " + std::to_string(M.size()) +
+           " M values for " + std::to_string(nv) + " vertices (compute the Fitmaps first)";
   int badS = 0;
   for (int i = 0; i < nv; ++i)
     if (!std::isfinite(S[i]) || !std::isfinite(M[i]) || S[i] < 0 || M[i] < 0) ++badS;
-  if (badS) { res.error = std::to_string(badS) + " vertices have invalid (negative or non-finite) Fitmap values"; return res; }
-  if (!scene.Ok()) { res.error = "ray-casting scene: " + scene.Error(); return res; }
-  if (&scene.Mesh() != &input && scene.Mesh().F.size() != input.F.size()) {
-    res.error = "the Embree scene was not built on the input mesh";
-    return res;
-  }
+  if (badS) return std::to_string(badS) + " vertices have invalid (negative or non-finite) Fitmap values";
+  if (!scene.Ok()) return "ray-casting scene: " + scene.Error();
+  if (&scene.Mesh() != &input && scene.Mesh().F.size() != input.F.size())
+    return "the Embree scene was not built on the input mesh";
   int nme = 0, nmv = 0;
   CountNonManifold(start, &nme, &nmv);
-  if (nme || nmv) {
-    res.error = "the input is not manifold: " + std::to_string(nme) + " non-manifold edges and " +
-                std::to_string(nmv) + " non-manifold vertices (Filters > Cleaning and Repairing > "
-                "Repair non Manifold Edges/Vertices)";
-    return res;
-  }
-  Progress prog(cb);
+  if (nme || nmv)
+    return "the input is not manifold: " + std::to_string(nme) + " non-manifold edges and " + std::to_string(nmv) +
+           " non-manifold vertices (Filters > Cleaning and Repairing > Repair non Manifold Edges/Vertices)";
+  return {};
+}
+
+// One simplification (§3.2-3.4) of checked inputs: tri-to-quad (or the given quads) of `start`,
+// interpolation, collapses until the halting of `params`, final checks.
+QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, const EmbreeScene& scene,
+                                const std::vector<double>& S, const std::vector<double>& M,
+                                const QuadSimplifyParams& params, Progress prog, const std::vector<Quad>* initialQuads) {
+  QuadSimplifyResult res;
+  const auto t0 = Clock::now();
+  const int nv = int(input.V.size());
   prog(0, "Tri-to-quad", true);
   // 1. initial quads (§3.2)
   QuadData q0;
@@ -922,6 +923,163 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   res.valenceHistogram = sim.K.ValenceHistogram(&res.irregularVertices);
   res.secondsTotal = Since(t0);
   return res;
+}
+
+// RMS distance from (every k-th of at most ~100k) input vertices to the limit surface of `q`,
+// tessellated 6 x 6 per patch: how closely a cage's interpolating limit follows the input, to
+// choose between two layouts. Infinity if the limit cannot be evaluated.
+double InterpolationRms(const TriData& input, const QuadData& q) {
+  LimitSurface ls = LimitSurface::FromQuads(q);
+  if (!ls.Ok() || ls.NumFaces() == 0) return std::numeric_limits<double>::infinity();
+  const int k = 6;
+  TriData tess;
+  tess.V.reserve(size_t(ls.NumFaces()) * (k + 1) * (k + 1));
+  for (int f = 0; f < ls.NumFaces(); ++f) {
+    const int base = int(tess.V.size());
+    for (int j = 0; j <= k; ++j)
+      for (int i = 0; i <= k; ++i) {
+        Vec3 P;
+        ls.Evaluate(f, double(i) / k, double(j) / k, q.V, &P);
+        tess.V.push_back(P);
+      }
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) {
+        const int a = base + j * (k + 1) + i;
+        tess.F.push_back({a, a + 1, a + k + 2});
+        tess.F.push_back({a, a + k + 2, a + k + 1});
+      }
+  }
+  EmbreeScene lim(tess);
+  if (!lim.Ok()) return std::numeric_limits<double>::infinity();
+  const int n = int(input.V.size()), stride = std::max(1, n / 100000), m = (n + stride - 1) / stride;
+  std::vector<double> dSq(size_t(m), -1.0);  // summed in order below: the same sum on any thread count
+#pragma omp parallel for schedule(static)
+  for (int s = 0; s < m; ++s) {
+    const Vec3& x = input.V[size_t(s) * stride];
+    const EmbreeScene::Hit h = lim.ClosestPoint(x);
+    if (h.valid) dSq[s] = (h.point - x).squaredNorm();
+  }
+  double sum = 0;
+  long cnt = 0;
+  for (double d : dSq)
+    if (d >= 0) { sum += d; ++cnt; }
+  return cnt ? std::sqrt(sum / double(cnt)) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                   const std::vector<double>& M, const QuadSimplifyParams& params,
+                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
+                                   const TriData* startMesh) {
+  const TriData& start = startMesh ? *startMesh : input;
+  QuadSimplifyResult res;
+  res.error = CheckInputs(input, start, scene, S, M, startMesh && initialQuads && !initialQuads->empty());
+  if (!res.error.empty()) return res;
+  Progress prog(cb);
+  // The layout pass: S-cost order without the M test, down to `patches`.
+  auto layoutParams = [&params](int patches) {
+    QuadSimplifyParams lp = params;
+    lp.layout = QuadSimplifyParams::Layout::PaperHalting;
+    lp.useMFitmap = false;
+    lp.targetPatches = patches;
+    return lp;
+  };
+  // Coverage guard (QuadSimplifyParams::coverageRmsPermille): a cage whose interpolating limit
+  // leaves the input is laid out again with twice the patches.
+  auto guard = [&](QuadSimplifyResult r) {
+    const double diag = BBoxDiagonal(input.V);
+    if (!(params.coverageRmsPermille > 0) || !(diag > 0)) return r;
+    const double limit = params.coverageRmsPermille / 1000.0 * diag;
+    double rms = r.layoutRms > 0 ? r.layoutRms : InterpolationRms(input, r.quads);
+    const int maxPatches = std::max(1, int(start.F.size()) / 4);  // half the start's quads
+    // The target doubles each time; a pass can land below it (on a thin tube one collapse can
+    // cascade through the doublets it leaves, cyl_capped: target 48 -> 6 patches), so a pass is
+    // kept only when it follows the input more closely.
+    int target = r.patches;
+    const int from = r.patches;
+    const double fromRms = rms;
+    for (int k = 0; k < 8 && rms > limit && 2 * target <= maxPatches; ++k) {
+      target *= 2;
+      QuadSimplifyResult g =
+          SimplifyOnce(input, start, scene, S, M, layoutParams(target), prog.Sub(90, 100), initialQuads);
+      if (!g.error.empty()) break;
+      g.layoutRms = InterpolationRms(input, g.quads);
+      r.secondsTotal += g.secondsTotal;
+      if (!(g.layoutRms < rms)) continue;
+      g.coverageRelayouts = k + 1;
+      g.coverageFromPatches = from;
+      g.coverageFromRms = fromRms;
+      g.countPatches = r.countPatches;
+      g.countStartFaces = r.countStartFaces;
+      g.rejectedByM = r.rejectedByM;
+      g.secondsCount = r.secondsCount;
+      g.paperLayoutRms = r.paperLayoutRms;
+      g.equalizedLayoutRms = r.equalizedLayoutRms;
+      g.secondsTotal = r.secondsTotal;
+      rms = g.layoutRms;
+      r = std::move(g);
+    }
+    return r;
+  };
+  const bool equalized = params.layout == QuadSimplifyParams::Layout::Equalized;
+  if (equalized && params.targetPatches > 0)  // a budget: the layout pass alone (M would halt above it)
+    return SimplifyOnce(input, start, scene, S, M, layoutParams(params.targetPatches), prog, initialQuads);
+  if (!equalized || !params.useMFitmap) return SimplifyOnce(input, start, scene, S, M, params, prog, initialQuads);
+
+  // Count pass (docs/quad.md "Layout"): the paper's halting on a coarse start mesh; given quads
+  // are counted as they are.
+  const auto t0 = Clock::now();
+  DecimateResult coarse;
+  const bool decimate = !(initialQuads && !initialQuads->empty()) && params.countFaces > 0 &&
+                        int(start.F.size()) > params.countFaces + params.countFaces / 4;
+  if (decimate) {
+    WorkingResolutionParams wp;
+    wp.maxFaces = params.countFaces;
+    coarse = WorkingResolution(start, wp);
+  }
+  const TriData& countStart = decimate && coarse.decimated ? coarse.mesh : start;
+  QuadSimplifyParams cp = params;
+  cp.layout = QuadSimplifyParams::Layout::PaperHalting;
+  QuadSimplifyResult c = SimplifyOnce(input, countStart, scene, S, M, cp, prog.Sub(0, 30), initialQuads);
+  if (!c.error.empty()) return c;
+  // A count above 1/16 of the coarse start's triangles (its quads reduced less than 8x) is bounded
+  // by that start's resolution: count again on the real start mesh.
+  const bool recount = &countStart != &start && 16L * c.patches > long(countStart.F.size());
+  if (recount) {
+    c = SimplifyOnce(input, start, scene, S, M, cp, prog.Sub(0, 30), initialQuads);
+    if (!c.error.empty()) return c;
+  }
+  res = SimplifyOnce(input, start, scene, S, M, layoutParams(std::max(1, c.patches)), prog.Sub(30, 100), initialQuads);
+  if (!res.error.empty()) return res;
+  // When the count pass ran on the real start mesh it is the paper's own result: keep whichever
+  // of the two cages' interpolating limits follows the input more closely (docs/quad.md "Layout").
+  const bool paperResult = recount || &countStart == &start;
+  if (paperResult) {
+    res.layoutRms = InterpolationRms(input, res.quads);
+    c.layoutRms = InterpolationRms(input, c.quads);
+    res.paperLayoutRms = c.layoutRms;
+    if (c.layoutRms < res.layoutRms) {
+      const double eqRms = res.layoutRms;
+      const double layoutSeconds = res.secondsTotal;
+      res = std::move(c);
+      res.paperLayoutRms = res.layoutRms;
+      res.equalizedLayoutRms = eqRms;
+      res.keptPaperLayout = true;
+      res.countPatches = res.patches;
+      res.countStartFaces = int(start.F.size());
+      res.secondsCount = layoutSeconds;
+      res.secondsTotal = std::chrono::duration<double>(Clock::now() - t0).count();
+      return guard(std::move(res));
+    }
+    res.equalizedLayoutRms = res.layoutRms;
+  }
+  res.countPatches = c.patches;
+  res.countStartFaces = int((recount ? start : countStart).F.size());
+  res.rejectedByM = c.rejectedByM;
+  res.secondsCount = std::chrono::duration<double>(Clock::now() - t0).count() - res.secondsTotal;
+  res.secondsTotal += res.secondsCount;
+  return guard(std::move(res));
 }
 
 }  // namespace vcgext

@@ -18,7 +18,8 @@
 ///     of the projections of the limit points onto M (local solve of (1), others frozen);
 ///  5. a step is undone if it would break manifoldness/topology (QuadMesh operators) or flip a
 ///     patch against the input (limit normal at the patch centre vs input normal at the hit).
-/// Halts when no feasible collapse is left or at `targetPatches`.
+/// Halts when no feasible collapse is left or at `targetPatches`; by default (Layout::Equalized)
+/// the count of that halting is measured in a first pass and spent on an S-fitmap layout.
 #include <array>
 #include <map>
 #include <string>
@@ -56,6 +57,32 @@ struct QuadSimplifyParams {
   double maxDeviationPercent = 0.0;
   bool finalReinterpolation = true;  ///< one global solve at the end: all limit vertices back onto the input
   bool validateEveryOperation = false;  ///< test mode: full validity check after every step (O(F) each)
+  /// How the patches are spent when the count is the paper's (targetPatches 0, M-fitmap test on).
+  /// Beyond the paper (docs/quad.md "Layout"): the paper's halting keeps collapsing until the
+  /// M-fitmap blocks every collapse, so patch sizes follow M (projectability) and not S (error):
+  /// huge patches where M is loose, and the RMS limit error of one layout differs by 1.5x from
+  /// that of a start mesh 5 % coarser (bunny00: 1.70 to 2.62 per mille). Equalized runs the
+  /// paper's halting on a coarse start mesh (countFaces) only to count its patches N, then
+  /// simplifies the real start mesh in S-cost order without the M test down to N patches (the
+  /// thin-part guard still holds): the same count, patches sized by the S-fitmap. With a
+  /// targetPatches budget, Equalized is the layout pass alone (no M test): the budget is reached
+  /// whatever tau (the M test used to halt above it).
+  enum class Layout {
+    Equalized,     ///< the paper's count, S-fitmap layout (default)
+    PaperHalting,  ///< the paper literally: collapse until no feasible collapse is left
+  } layout = Layout::Equalized;
+  /// Equalized, no budget: coverage guard (issue 16, docs/robustness.md "Closed thin shapes").
+  /// When the chosen cage's interpolating limit stays farther than this from the input (RMS of
+  /// the input vertices' distances, 1/1000 of the bbox diagonal) the M-fitmap did not stop the
+  /// collapses (a thin closed part whose M is loose: a capped cylinder's cage shrank to one end),
+  /// and the layout pass runs again with twice the patches, up to 8 times, until it is within.
+  /// The filter sets 5 tau (at most 100): scans sit far below at tau = 1 % (bunny00 ~3,
+  /// nefertiti's 17-patch cage 23); smooth limits of sharp CAD solids above (cube.off 134:
+  /// a 16-patch cage 2.4 tau off after the fit). 0 = off.
+  double coverageRmsPermille = 50;
+  /// Equalized: the count pass starts from the start mesh decimated to this many triangles
+  /// (larger start meshes only; the count moves by ~2 % between 10k and 40k on bunny00).
+  int countFaces = 10000;
   /// Threads for a step's checks and projections (OpenMP's maximum when parallel): chosen from
   /// measured speed (AdaptiveParallelism, default), never, or always (tests). Same result.
   enum class ParallelChecks { Adaptive, Never, Always } parallelChecks = ParallelChecks::Adaptive;
@@ -109,6 +136,19 @@ struct QuadSimplifyResult {
   quad::TriToQuadPath triToQuadPath = quad::TriToQuadPath::Pairing;
   int initialPatches = 0;
   int patches = 0;
+  int countPatches = 0;            ///< Layout::Equalized: the paper's halting count (0: no count pass)
+  int countStartFaces = 0;         ///< Layout::Equalized: triangles of the count pass's start mesh
+  double secondsCount = 0;         ///< Layout::Equalized: wall time of the count pass (in secondsTotal)
+  /// Layout::Equalized when the count pass ran on the start mesh itself (small start meshes, or a
+  /// count too high for the coarse one): that pass is the paper's own result, and the cage kept is
+  /// the one whose interpolating limit is closer to the input (RMS, absolute; 0 = not compared).
+  double paperLayoutRms = 0, equalizedLayoutRms = 0, layoutRms = 0;
+  bool keptPaperLayout = false;    ///< that comparison kept the paper's halting result
+  /// Coverage guard (QuadSimplifyParams::coverageRmsPermille): layout passes it added (0: none),
+  /// and the patches and interpolating-limit RMS (absolute) of the cage it replaced.
+  int coverageRelayouts = 0;
+  int coverageFromPatches = 0;
+  double coverageFromRms = 0;
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
