@@ -81,6 +81,11 @@ bool ApplyFitmaps(GlueContext& ctx) {
            r.radii.empty() ? 0.0 : r.radii.front(), r.radii.empty() ? 0.0 : r.radii.back(),
            showM ? "M-fitmap" : "S-fitmap", range.first, range.second);
   ctx.log(buf);
+  ctx.Value("vertices", mm.cm.vn);
+  ctx.Value("working_faces", r.workingFaces);
+  ctx.Value("seconds", secs);
+  ctx.Value("min_radius", r.radii.empty() ? 0.0 : r.radii.front());
+  ctx.Value("max_radius", r.radii.empty() ? 0.0 : r.radii.back());
   return true;
 }
 

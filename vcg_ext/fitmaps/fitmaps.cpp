@@ -519,73 +519,319 @@ FitmapResult FitmapsFromWorkingResolution(const TriData& input, const FitmapPara
 }
 }  // namespace
 
-FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, const FitmapParams& p,
-                            vcg::CallBackPos* cb) {
-  const auto t0 = std::chrono::steady_clock::now();
-  FitmapResult res;
-  // ---- validation
+namespace {
+
+// ComputeFitmaps' argument checks, in order: the first problem, or empty.
+std::string CheckFitmapInputs(const TriData& input, const EmbreeScene& scene, const FitmapParams& p) {
   const int nV = int(input.V.size());
-  if (nV == 0) { res.error = "the mesh is empty (no vertices)"; return res; }
-  if (input.F.empty()) { res.error = "the mesh has no faces (point cloud): a triangle mesh is needed"; return res; }
+  if (nV == 0) return "the mesh is empty (no vertices)";
+  if (input.F.empty()) return "the mesh has no faces (point cloud): a triangle mesh is needed";
   for (size_t i = 0; i < input.V.size(); ++i)
-    if (!input.V[i].allFinite()) { res.error = "vertex " + std::to_string(i) + " has NaN or infinite coordinates"; return res; }
+    if (!input.V[i].allFinite()) return "vertex " + std::to_string(i) + " has NaN or infinite coordinates";
   for (size_t i = 0; i < input.V.size(); ++i)
     if (input.V[i].cwiseAbs().maxCoeff() > kMaxCoordinate) {
-      res.error = "vertex " + std::to_string(i) + " has a coordinate beyond 1e17, more than the ray caster can represent: scale the mesh down";
-      return res;
+      return "vertex " + std::to_string(i) + " has a coordinate beyond 1e17, more than the ray caster can represent: scale the mesh down";
     }
   int badIdx = 0;
   for (const auto& f : input.F)
     for (int c : f) badIdx += (c < 0 || c >= nV) ? 1 : 0;
-  if (badIdx) { res.error = std::to_string(badIdx) + " face corners refer to no vertex (index out of range)"; return res; }
-  if (!(p.tauPercent >= 0 && p.tauPercent <= 100)) { res.error = "tau must be in [0, 100] percent"; return res; }
-  if (p.numRadii < 1 || p.numRadii > 64) { res.error = "the number of radii must be in [1, 64]"; return res; }
+  if (badIdx) return std::to_string(badIdx) + " face corners refer to no vertex (index out of range)";
+  if (!(p.tauPercent >= 0 && p.tauPercent <= 100)) return "tau must be in [0, 100] percent";
+  if (p.numRadii < 1 || p.numRadii > 64) return "the number of radii must be in [1, 64]";
   if (!(p.maxRadiusPercent > 0 && p.maxRadiusPercent <= 100)) {
-    res.error = "the largest radius must be in (0, 100] percent of the bbox diagonal";
-    return res;
+    return "the largest radius must be in (0, 100] percent of the bbox diagonal";
   }
   if (!(p.referenceSampleFactor > 0 && p.referenceSampleFactor <= 1e4)) {
-    res.error = "referenceSampleFactor must be in (0, 10000]";
-    return res;
+    return "referenceSampleFactor must be in (0, 10000]";
   }
-  if (p.minFitPoints < 1) { res.error = "minFitPoints must be at least 1"; return res; }
+  if (p.minFitPoints < 1) return "minFitPoints must be at least 1";
   for (int v : p.vertices)
-    if (v < 0 || v >= nV) { res.error = "vertex subset: index " + std::to_string(v) + " is out of range"; return res; }
-  if (!scene.Ok()) { res.error = "ray-casting scene: " + scene.Error(); return res; }
+    if (v < 0 || v >= nV) return "vertex subset: index " + std::to_string(v) + " is out of range";
+  if (!scene.Ok()) return "ray-casting scene: " + scene.Error();
   if (scene.Mesh().V.size() != input.V.size() || scene.Mesh().F.size() != input.F.size()) {
-    res.error = "the ray-casting scene was not built on this mesh";
-    return res;
+    return "the ray-casting scene was not built on this mesh";
   }
-  if (p.workingFaces < 0) { res.error = "the working resolution must be >= 0 triangles"; return res; }
+  if (p.workingFaces < 0) return "the working resolution must be >= 0 triangles";
+  return {};
+}
+
+// Vertices in Morton (Z-curve) order, so that the traversals touch nearby memory: order[k] is
+// the caller's vertex of rank k, rank its inverse (the results are mapped back; faces keep their
+// order, so the Embree scene stays valid).
+void MortonOrder(const std::vector<Vec3>& V, std::vector<int>& order, std::vector<int>& rank) {
+  const int nV = int(V.size());
+  order.resize(nV);
+  rank.resize(nV);
+  Vec3 lo = V[0], hi = V[0];
+  for (const auto& q : V) { lo = lo.cwiseMin(q); hi = hi.cwiseMax(q); }
+  const double ext = std::max((hi - lo).maxCoeff(), 1e-300);
+  std::vector<std::pair<uint64_t, int>> code(nV);
+  auto spread = [](uint64_t x) {
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+  };
+  for (int i = 0; i < nV; ++i) {
+    const Vec3 t = (V[i] - lo) / ext * 2097151.0;
+    code[i] = {spread(uint64_t(t[0])) | spread(uint64_t(t[1])) << 1 | spread(uint64_t(t[2])) << 2, i};
+  }
+  std::sort(code.begin(), code.end());
+  for (int k = 0; k < nV; ++k) { order[k] = code[k].second; rank[code[k].second] = k; }
+}
+
+// S and M of vertex v (and its per-radius values when kept) from its radius values; false when
+// the S fit failed.
+bool StoreVertex(const Context& ctx, const RadiusValues& rv, int v, FitmapResult& res) {
+  bool ok;
+  res.S[v] = SFromE(ctx.radii, rv, ok);
+  res.M[v] = MFromPhi(ctx, rv);
+  Keep(*ctx.p, rv, v, res);
+  return ok;
+}
+
+// Reference mode (paper §3.1 literally): every vertex of `todo`, all radii, on the mesh itself.
+// Returns the vertices whose S fit failed.
+int ReferenceValues(Context& ctx, const Level& fine, const std::vector<int>& todo, FitmapResult& res,
+                    Progress& prog) {
+  const TriData& m = *ctx.m;
+  const int nV = int(m.V.size()), H = int(ctx.radii.size());
+  std::atomic<long> done{0};
+  int noFit = 0;
+  ctx.vf = VertexFaceAdjacency(m.F, nV);
+#pragma omp parallel reduction(+ : noFit)
+  {
+    Scratch s;
+    RadiusValues rv;
+#pragma omp for schedule(dynamic, 4)
+    for (long k = 0; k < long(todo.size()); ++k) {
+      const int v = todo[k];
+      rv.Init(H);
+      EvalSpec e;
+      e.start = e.vertex = v;
+      e.literal = true;
+      Evaluate(ctx, fine, e, 0, H, s, rv);
+      if (!StoreVertex(ctx, rv, v, res)) ++noFit;
+      ++done;
+      if (omp_get_thread_num() == 0) prog(100.0 * done / todo.size(), "Fitmaps (reference)");
+    }
+  }
+  return noFit;
+}
+
+// Fast mode's plan: the hierarchy of levels (level 0 = the mesh), for each radius the coarsest
+// level whose neighbourhood of that radius still holds about fastPointsPerFit points, and which
+// radii get their S fitted per vertex (on level levelS) instead of interpolated.
+struct FastPlan {
+  std::vector<Level> levels;
+  std::vector<int> levelOf, levelS;
+  std::vector<char> perVertexS;
+};
+FastPlan PlanFastLevels(const Context& ctx, Level fine, double r0, double rh) {
+  const TriData& m = *ctx.m;
+  const FitmapParams& p = *ctx.p;
+  const int H = int(ctx.radii.size());
+  FastPlan plan;
+  std::vector<Level>& levels = plan.levels;
+  levels.push_back(std::move(fine));
+  BuildClusterFaces(m, ctx.faceArea, levels[0]);
+  const double target = std::max(16, p.fastPointsPerFit);
+  std::vector<int>& levelOf = plan.levelOf;
+  levelOf.assign(H, 0);
+  for (int i = 0; i < H; ++i) {
+    const double r = ctx.radii[i];
+    int l = 0;
+    while (true) {
+      if (int(levels.size()) <= l + 1) {
+        const Level& f = levels.back();
+        if (f.X.size() < 64 || levels.size() >= 16) break;
+        const double cover = r0 * std::pow(2.0, 0.5 * double(levels.size()));
+        Level c = Coarsen(f, cover);
+        c.areaPerPoint = ctx.totalArea / double(c.X.size());
+        c.index = int(levels.size());
+        BuildClusterFaces(m, ctx.faceArea, c);
+        levels.push_back(std::move(c));
+      }
+      const Level& nx = levels[l + 1];
+      if (M_PI * r * r / nx.areaPerPoint >= target) ++l; else break;
+    }
+    levelOf[i] = l;
+  }
+  // E(r_i) enters a with weight (r_i/r_h)^4: radii below r_h/2.5 weigh < 2.6% each (and their
+  // E is much smaller than E(r_h)), so they
+  // are interpolated from the level points like the flipped shares; the larger ones are
+  // fitted per vertex in the vertex's own frame (the frame matters most there).
+  plan.perVertexS.assign(H, 0);
+  plan.levelS.assign(H, 0);
+  for (int i = 0; i < H; ++i) {
+    if (levelOf[i] == 0 || ctx.radii[i] < rh / 2.5) continue;
+    plan.perVertexS[i] = 1;
+    // the per-vertex S fits use more points than the M estimates (fastPointsPerSFit)
+    const double r = ctx.radii[i];
+    int l = 0;
+    while (l + 1 < int(levels.size()) &&
+           M_PI * r * r / levels[l + 1].areaPerPoint >= std::max(16, p.fastPointsPerSFit))
+      ++l;
+    plan.levelS[i] = l;
+  }
+  return plan;
+}
+
+// Fast mode, coarse levels: every level point, all radii of that level (values[l][q]).
+std::vector<std::vector<RadiusValues>> CoarseValues(const Context& ctx, const FastPlan& plan) {
+  const int H = int(ctx.radii.size());
+  std::vector<std::vector<RadiusValues>> coarse(plan.levels.size());
+  for (size_t l = 1; l < plan.levels.size(); ++l) {
+    int i0 = H, i1 = 0;
+    for (int i = 0; i < H; ++i)
+      if (plan.levelOf[i] == int(l)) { i0 = std::min(i0, i); i1 = std::max(i1, i + 1); }
+    if (i0 >= i1) continue;
+    const Level& lv = plan.levels[l];
+    coarse[l].resize(lv.X.size());
+#pragma omp parallel
+    {
+      Scratch s;
+#pragma omp for schedule(dynamic, 8)
+      for (long q = 0; q < long(lv.X.size()); ++q) {
+        coarse[l][q].Init(H);
+        EvalSpec e;
+        e.start = int(q);
+        e.vertex = lv.fineIdx[q];
+        e.doS = true;  // used where S is not fitted per vertex (radii below r_h / 6)
+        e.stopMAtFailure = false;
+        Evaluate(ctx, lv, e, i0, i1, s, coarse[l][q]);
+      }
+    }
+  }
+  return coarse;
+}
+
+// Fast mode, per vertex of `todo`: the fine-level radii, the large-radius S fits (per vertex or
+// interpolated from level sLevel's points) and the coarse radii interpolated from `coarse`.
+// Returns the vertices whose S fit failed.
+int FastValues(const Context& ctx, const FastPlan& plan, const std::vector<std::vector<RadiusValues>>& coarse,
+               const std::vector<int>& todo, FitmapResult& res, Progress& prog,
+               std::chrono::steady_clock::time_point t0) {
+  const TriData& m = *ctx.m;
+  const FitmapParams& p = *ctx.p;
+  const int H = int(ctx.radii.size());
+  std::atomic<long> done{0};
+  int noFit = 0;
+  // large-radius S fits in the frames of the points of level sLevel (0: every vertex)
+  const int sLevel = std::clamp(p.fastSLevel, 0, int(plan.levels.size()) - 1);
+  std::vector<RadiusValues> sVals;
+  auto fitS = [&](int v, Scratch& s, RadiusValues& rv) {
+    EvalSpec ec;
+    ec.vertex = v;
+    ec.doM = false;
+    for (int i = 0; i < H;) {
+      if (!plan.perVertexS[i]) { ++i; continue; }
+      int j = i;
+      while (j < H && plan.perVertexS[j] && plan.levelS[j] == plan.levelS[i]) ++j;
+      ec.start = plan.levels[plan.levelS[i]].ofFine[v];
+      Evaluate(ctx, plan.levels[plan.levelS[i]], ec, i, j, s, rv);
+      i = j;
+    }
+  };
+  if (sLevel > 0) {
+    const Level& lv = plan.levels[sLevel];
+    sVals.resize(lv.X.size());
+#pragma omp parallel
+    {
+      Scratch s;
+#pragma omp for schedule(dynamic, 16)
+      for (long q = 0; q < long(lv.X.size()); ++q) {
+        sVals[q].Init(H);
+        fitS(lv.fineIdx[q], s, sVals[q]);
+      }
+    }
+  }
+  prog(30, "Fitmaps: vertices", true);
+  res.secondsCoarse = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // fine level per vertex + interpolation of the coarse radii
+  int i1fine = 0;
+  while (i1fine < H && plan.levelOf[i1fine] == 0) ++i1fine;
+#pragma omp parallel reduction(+ : noFit)
+  {
+    Scratch s;
+    RadiusValues rv;
+#pragma omp for schedule(dynamic, 32)
+    for (long k = 0; k < long(todo.size()); ++k) {
+      const int v = todo[k];
+      rv.Init(H);
+      EvalSpec e;
+      e.start = e.vertex = v;
+      Evaluate(ctx, plan.levels[0], e, 0, i1fine, s, rv);
+      if (sLevel == 0) fitS(v, s, rv);
+      bool needM = true;
+      for (int i = 1; i < i1fine; ++i)
+        if (!(rv.phiOk[i] && rv.phi[i] < ctx.tau)) needM = false;
+      if (ctx.normals[v].squaredNorm() > 0) {
+        // interpolation weights exp(-d^2 / (2 * area per point)) over the vertex's cluster
+        // and its neighbour clusters
+        if (sLevel > 0) {
+          const Level& lv = plan.levels[sLevel];
+          const int c = lv.ofFine[v];
+          const double inv = 1.0 / (2.0 * lv.areaPerPoint);
+          for (int i = 0; i < H; ++i) {
+            if (!plan.perVertexS[i]) continue;
+            double we = 0, se = 0;
+            auto take = [&](int cc) {
+              if (!sVals[cc].eOk[i]) return;
+              const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
+              we += w;
+              se += w * sVals[cc].E[i];
+            };
+            take(c);
+            for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
+            if (we > 0) { rv.E[i] = se / we; rv.eOk[i] = 1; }
+          }
+        }
+        for (int i = i1fine; i < H; ++i) {
+          const Level& lv = plan.levels[plan.levelOf[i]];
+          const auto& vals = coarse[plan.levelOf[i]];
+          const int c = lv.ofFine[v];
+          const double inv = 1.0 / (2.0 * lv.areaPerPoint);
+          double wp = 0, sp = 0, we = 0, se = 0;
+          auto take = [&](int cc) {
+            const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
+            if (vals[cc].phiOk[i]) { wp += w; sp += w * vals[cc].phi[i]; }
+            if (vals[cc].eOk[i]) { we += w; se += w * vals[cc].E[i]; }
+          };
+          take(c);
+          for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
+          if (we > 0 && !plan.perVertexS[i]) { rv.E[i] = se / we; rv.eOk[i] = 1; }
+          if (wp > 0 && needM) { rv.phi[i] = sp / wp; rv.phiOk[i] = 1; }
+        }
+      }
+      if (!StoreVertex(ctx, rv, v, res)) ++noFit;
+      ++done;
+      if (omp_get_thread_num() == 0) prog(30 + 70.0 * done / todo.size(), "Fitmaps");
+    }
+  }
+  return noFit;
+}
+
+}  // namespace
+
+FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, const FitmapParams& p,
+                            vcg::CallBackPos* cb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FitmapResult res;
+  res.error = CheckFitmapInputs(input, scene, p);
+  if (!res.error.empty()) return res;
   if (p.workingFaces > 0 && int(input.F.size()) > p.workingFaces && p.vertices.empty() &&
       p.mode == FitmapParams::Mode::Fast && !p.keepPerRadius) {
     return FitmapsFromWorkingResolution(input, p, cb);
   }
 
-  // ---- vertices in Morton (Z-curve) order: the traversals then touch nearby memory (the
-  // results are mapped back; faces keep their order, so the Embree scene stays valid).
-  std::vector<int> order(nV), rank(nV);
-  {
-    Vec3 lo = input.V[0], hi = input.V[0];
-    for (const auto& q : input.V) { lo = lo.cwiseMin(q); hi = hi.cwiseMax(q); }
-    const double ext = std::max((hi - lo).maxCoeff(), 1e-300);
-    std::vector<std::pair<uint64_t, int>> code(nV);
-    auto spread = [](uint64_t x) {
-      x &= 0x1fffff;
-      x = (x | x << 32) & 0x1f00000000ffffull;
-      x = (x | x << 16) & 0x1f0000ff0000ffull;
-      x = (x | x << 8) & 0x100f00f00f00f00full;
-      x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-      x = (x | x << 2) & 0x1249249249249249ull;
-      return x;
-    };
-    for (int i = 0; i < nV; ++i) {
-      const Vec3 t = (input.V[i] - lo) / ext * 2097151.0;
-      code[i] = {spread(uint64_t(t[0])) | spread(uint64_t(t[1])) << 1 | spread(uint64_t(t[2])) << 2, i};
-    }
-    std::sort(code.begin(), code.end());
-    for (int k = 0; k < nV; ++k) { order[k] = code[k].second; rank[code[k].second] = k; }
-  }
+  // ---- vertices in Morton order (MortonOrder)
+  const int nV = int(input.V.size());
+  std::vector<int> order, rank;
+  MortonOrder(input.V, order, rank);
   TriData mm;
   mm.V.resize(nV);
   for (int k = 0; k < nV; ++k) mm.V[k] = input.V[order[k]];
@@ -645,203 +891,17 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   for (int v : todo) res.unreferenced += vv.Count(v) == 0 ? 1 : 0;
 
   Level fine = MakeFineLevel(m, vv, ctx.totalArea);
-  const bool reference = p.mode == FitmapParams::Mode::Reference;
-  std::atomic<long> done{0};
-  int noFit = 0;
-
-  if (reference) {
-    ctx.vf = VertexFaceAdjacency(m.F, nV);
-#pragma omp parallel reduction(+ : noFit)
-    {
-      Scratch s;
-      RadiusValues rv;
-#pragma omp for schedule(dynamic, 4)
-      for (long k = 0; k < long(todo.size()); ++k) {
-        const int v = todo[k];
-        rv.Init(H);
-        EvalSpec e;
-        e.start = e.vertex = v;
-        e.literal = true;
-        Evaluate(ctx, fine, e, 0, H, s, rv);
-        bool ok;
-        res.S[v] = SFromE(ctx.radii, rv, ok);
-        if (!ok) ++noFit;
-        res.M[v] = MFromPhi(ctx, rv);
-        Keep(p, rv, v, res);
-        ++done;
-        if (omp_get_thread_num() == 0) prog(100.0 * done / todo.size(), "Fitmaps (reference)");
-      }
-    }
+  if (p.mode == FitmapParams::Mode::Reference) {
+    res.noFit = ReferenceValues(ctx, fine, todo, res, prog);
   } else {
-    // ---- Fast mode: hierarchy of levels, each radius evaluated on the coarsest level whose
-    // neighbourhood of that radius still holds about fastPointsPerFit points.
-    std::vector<Level> levels;
-    levels.push_back(std::move(fine));
-    BuildClusterFaces(m, ctx.faceArea, levels[0]);
-    const double target = std::max(16, p.fastPointsPerFit);
-    std::vector<int> levelOf(H, 0);
-    for (int i = 0; i < H; ++i) {
-      const double r = ctx.radii[i];
-      int l = 0;
-      while (true) {
-        if (int(levels.size()) <= l + 1) {
-          const Level& f = levels.back();
-          if (f.X.size() < 64 || levels.size() >= 16) break;
-          const double cover = r0 * std::pow(2.0, 0.5 * double(levels.size()));
-          Level c = Coarsen(f, cover);
-          c.areaPerPoint = ctx.totalArea / double(c.X.size());
-          c.index = int(levels.size());
-          BuildClusterFaces(m, ctx.faceArea, c);
-          levels.push_back(std::move(c));
-        }
-        const Level& nx = levels[l + 1];
-        if (M_PI * r * r / nx.areaPerPoint >= target) ++l; else break;
-      }
-      levelOf[i] = l;
-    }
-    res.levels = int(levels.size());
-    // E(r_i) enters a with weight (r_i/r_h)^4: radii below r_h/2.5 weigh < 2.6% each (and their
-    // E is much smaller than E(r_h)), so they
-    // are interpolated from the level points like the flipped shares; the larger ones are
-    // fitted per vertex in the vertex's own frame (the frame matters most there).
-    std::vector<char> perVertexS(H, 0);
-    std::vector<int> levelS(H, 0);
-    for (int i = 0; i < H; ++i) {
-      if (levelOf[i] == 0 || ctx.radii[i] < rh / 2.5) continue;
-      perVertexS[i] = 1;
-      // the per-vertex S fits use more points than the M estimates (fastPointsPerSFit)
-      const double r = ctx.radii[i];
-      int l = 0;
-      while (l + 1 < int(levels.size()) &&
-             M_PI * r * r / levels[l + 1].areaPerPoint >= std::max(16, p.fastPointsPerSFit))
-        ++l;
-      levelS[i] = l;
-    }
+    FastPlan plan = PlanFastLevels(ctx, std::move(fine), r0, rh);
+    res.levels = int(plan.levels.size());
     res.secondsLevels = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (int i = 0; i < H; ++i) res.radiusLevel.push_back(levelOf[i]);
+    for (int i = 0; i < H; ++i) res.radiusLevel.push_back(plan.levelOf[i]);
     prog(5, "Fitmaps: coarse levels", true);
-    // coarse levels: every level point, all radii of that level
-    std::vector<std::vector<RadiusValues>> coarse(levels.size());
-    for (size_t l = 1; l < levels.size(); ++l) {
-      int i0 = H, i1 = 0;
-      for (int i = 0; i < H; ++i)
-        if (levelOf[i] == int(l)) { i0 = std::min(i0, i); i1 = std::max(i1, i + 1); }
-      if (i0 >= i1) continue;
-      const Level& lv = levels[l];
-      coarse[l].resize(lv.X.size());
-#pragma omp parallel
-      {
-        Scratch s;
-#pragma omp for schedule(dynamic, 8)
-        for (long q = 0; q < long(lv.X.size()); ++q) {
-          coarse[l][q].Init(H);
-          EvalSpec e;
-          e.start = int(q);
-          e.vertex = lv.fineIdx[q];
-          e.doS = true;  // used where S is not fitted per vertex (radii below r_h / 6)
-          e.stopMAtFailure = false;
-          Evaluate(ctx, lv, e, i0, i1, s, coarse[l][q]);
-        }
-      }
-    }
-    // large-radius S fits in the frames of the points of level sLevel (0: every vertex)
-    const int sLevel = std::clamp(p.fastSLevel, 0, int(levels.size()) - 1);
-    std::vector<RadiusValues> sVals;
-    auto fitS = [&](int v, Scratch& s, RadiusValues& rv) {
-      EvalSpec ec;
-      ec.vertex = v;
-      ec.doM = false;
-      for (int i = 0; i < H;) {
-        if (!perVertexS[i]) { ++i; continue; }
-        int j = i;
-        while (j < H && perVertexS[j] && levelS[j] == levelS[i]) ++j;
-        ec.start = levels[levelS[i]].ofFine[v];
-        Evaluate(ctx, levels[levelS[i]], ec, i, j, s, rv);
-        i = j;
-      }
-    };
-    if (sLevel > 0) {
-      const Level& lv = levels[sLevel];
-      sVals.resize(lv.X.size());
-#pragma omp parallel
-      {
-        Scratch s;
-#pragma omp for schedule(dynamic, 16)
-        for (long q = 0; q < long(lv.X.size()); ++q) {
-          sVals[q].Init(H);
-          fitS(lv.fineIdx[q], s, sVals[q]);
-        }
-      }
-    }
-    prog(30, "Fitmaps: vertices", true);
-    res.secondsCoarse = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // fine level per vertex + interpolation of the coarse radii
-    int i1fine = 0;
-    while (i1fine < H && levelOf[i1fine] == 0) ++i1fine;
-#pragma omp parallel reduction(+ : noFit)
-    {
-      Scratch s;
-      RadiusValues rv;
-#pragma omp for schedule(dynamic, 32)
-      for (long k = 0; k < long(todo.size()); ++k) {
-        const int v = todo[k];
-        rv.Init(H);
-        EvalSpec e;
-        e.start = e.vertex = v;
-        Evaluate(ctx, levels[0], e, 0, i1fine, s, rv);
-        if (sLevel == 0) fitS(v, s, rv);
-        bool needM = true;
-        for (int i = 1; i < i1fine; ++i)
-          if (!(rv.phiOk[i] && rv.phi[i] < ctx.tau)) needM = false;
-        if (ctx.normals[v].squaredNorm() > 0) {
-          // interpolation weights exp(-d^2 / (2 * area per point)) over the vertex's cluster
-          // and its neighbour clusters
-          if (sLevel > 0) {
-            const Level& lv = levels[sLevel];
-            const int c = lv.ofFine[v];
-            const double inv = 1.0 / (2.0 * lv.areaPerPoint);
-            for (int i = 0; i < H; ++i) {
-              if (!perVertexS[i]) continue;
-              double we = 0, se = 0;
-              auto take = [&](int cc) {
-                if (!sVals[cc].eOk[i]) return;
-                const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
-                we += w;
-                se += w * sVals[cc].E[i];
-              };
-              take(c);
-              for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
-              if (we > 0) { rv.E[i] = se / we; rv.eOk[i] = 1; }
-            }
-          }
-          for (int i = i1fine; i < H; ++i) {
-            const Level& lv = levels[levelOf[i]];
-            const auto& vals = coarse[levelOf[i]];
-            const int c = lv.ofFine[v];
-            const double inv = 1.0 / (2.0 * lv.areaPerPoint);
-            double wp = 0, sp = 0, we = 0, se = 0;
-            auto take = [&](int cc) {
-              const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
-              if (vals[cc].phiOk[i]) { wp += w; sp += w * vals[cc].phi[i]; }
-              if (vals[cc].eOk[i]) { we += w; se += w * vals[cc].E[i]; }
-            };
-            take(c);
-            for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
-            if (we > 0 && !perVertexS[i]) { rv.E[i] = se / we; rv.eOk[i] = 1; }
-            if (wp > 0 && needM) { rv.phi[i] = sp / wp; rv.phiOk[i] = 1; }
-          }
-        }
-        bool ok;
-        res.S[v] = SFromE(ctx.radii, rv, ok);
-        if (!ok) ++noFit;
-        res.M[v] = MFromPhi(ctx, rv);
-        Keep(p, rv, v, res);
-        ++done;
-        if (omp_get_thread_num() == 0) prog(30 + 70.0 * done / todo.size(), "Fitmaps");
-      }
-    }
+    const auto coarse = CoarseValues(ctx, plan);
+    res.noFit = FastValues(ctx, plan, coarse, todo, res, prog, t0);
   }
-  res.noFit = noFit;
   // back to the caller's vertex order
   auto unpermute = [&](auto& vec, size_t stride) {
     if (vec.empty()) return;
