@@ -50,6 +50,14 @@ void InitFitParams(const MeshDocument& md, RichParameterList& par) {
                         "reference vertices (about half the displaced error of the paper's point "
                         "samples at the same texture size). Off: each texel is the distance along "
                         "the limit normal at its point (paper section 4)."));
+  par.addParam(RichBool(param::kRendererGrid, d.rendererGrid, "Bake for Blender's subdivision",
+                        "Bake the displacement for the surface a renderer rebuilds: the uniform "
+                        "subdivision at the level with one vertex per texel of the largest tile, each "
+                        "vertex moved along its mesh normal (Blender's Subdivision Surface + Displace "
+                        "modifiers; scripts/blender_fitmap.py sets them up). Blender then shows the "
+                        "reported displaced error (bunny00: 0.056 instead of 0.083 permille). Off: for "
+                        "each patch tessellated at its tile's spacing along the exact limit normal "
+                        "(faster on dense scans). See docs/blender.md."));
   par.addParam(RichFloat(param::kMaxDistPerc, float(d.maxDistPercent), "Max distance (% of bbox diagonal)",
                          "Largest projection / displacement distance along the limit normal."));
   par.addParam(RichInt(param::kFitIterations, d.fit.maxIterations, "Fit iterations",
@@ -96,6 +104,7 @@ bool ApplyFit(GlueContext& ctx) {
   p.normalMap = ctx.par.getBool(param::kNormalMap);
   p.fitDisplacement = ctx.par.getBool(param::kFitDisplacement);
   p.adaptiveTiles = ctx.par.getBool(param::kAdaptiveTiles);
+  p.rendererGrid = ctx.par.getBool(param::kRendererGrid);
   p.maxTexels = ctx.par.getInt(param::kMaxTexels);
   if (p.maxTexels < 0) return ctx.Fail("the texel budget cap must be 0 (none) or positive");
   p.maxDistPercent = ctx.par.getFloat(param::kMaxDistPerc);
@@ -176,6 +185,14 @@ bool ApplyFit(GlueContext& ctx) {
 
   ctx.log(vcgext::FormatReport(r));
   for (const auto& w : r.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: " + w);
+  ctx.Value("patches", r.fit.patches);
+  ctx.Value("irregular_vertices", r.fit.irregularVertices);
+  ctx.Value("rms_limit_permille", r.metrics.rmsLimitPermille);
+  ctx.Value("max_limit_permille", r.metrics.maxLimitPermille);
+  ctx.Value("rms_displaced_permille", r.metrics.rmsDisplacedPermille);
+  ctx.Value("max_displaced_permille", r.metrics.maxDisplacedPermille);
+  ctx.Value("unprojectable_pct", r.metrics.unprojectablePct);
+  ctx.Value("warnings", double(r.warnings.size()));
   ctx.log("Fit Catmull-Clark Surface: wrote displacement.png, displacement.json, " +
           std::string(p.normalMap ? "normal.png, " : "") + "control.obj (+ .mtl), control.ply, report.json to " + dir);
   return true;

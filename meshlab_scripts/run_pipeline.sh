@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # The main job, for a newcomer on a fresh Debian 12 machine (as root):
-#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--normal-map] [INPUT] [OUTDIR]
+#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--normal-map] [--blender] [INPUT] [OUTDIR]
 # Sets up whatever is missing (apt packages, MeshLab sources, build, plugin install, sample
 # scans), then runs meshlab_scripts/pipeline.mlx through meshlabserver on INPUT (default: the
 # bunny scan bunny00.off) into OUTDIR (default: out/). tau defaults to 1 (percent). --patches N
 # stops the simplification at N patches (a budget; default: when no feasible collapse is left).
+# --blender bakes the displacement for the surface Blender rebuilds (rendererGrid: its uniform
+# subdivision and mesh normals; then scripts/blender_fitmap.py shows the reported error,
+# docs/blender.md).
 # Writes into OUTDIR:
 #   fitmap.ply             the input, per-vertex quality = S-fitmap, colour-mapped
 #   control.obj + .mtl     the fitted Catmull-Clark control mesh, real quads, per-wedge UVs
@@ -21,6 +24,7 @@ REPO=$(cd "$(dirname "$0")/.." && pwd)
 TAU=1
 PATCHES=0
 NORMAL=false
+BLENDER=false
 args=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -31,7 +35,8 @@ while [ $# -gt 0 ]; do
                PATCHES="$2"; shift 2 ;;
     --patches=*) PATCHES="${1#--patches=}"; shift ;;
     --normal-map) NORMAL=true; shift ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    --blender) BLENDER=true; shift ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     -*) echo "run_pipeline: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) args+=("$1"); shift ;;
   esac
@@ -57,6 +62,7 @@ sed -E -e "s|value=\"[^\"]*\" name=\"tau\"|value=\"$TAU\" name=\"tau\"|" \
        -e "s|value=\"[^\"]*\" name=\"normalMap\"|value=\"$NORMAL\" name=\"normalMap\"|" \
        -e "s|value=\"[^\"]*\" name=\"targetPatches\"|value=\"$PATCHES\" name=\"targetPatches\"|" \
        -e "s|value=\"[^\"]*\" name=\"outputDir\"|value=\"$OUTDIR\" name=\"outputDir\"|" \
+       -e "s|value=\"[^\"]*\" name=\"rendererGrid\"|value=\"$BLENDER\" name=\"rendererGrid\"|" \
        "$REPO/meshlab_scripts/pipeline.mlx" > "$mlx"
 echo "[run_pipeline] Fitmaps -> quad simplification -> Catmull-Clark fit + displacement (tau = $TAU%) on $INPUT"
 start=$(date +%s.%N)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets everything up (apt packages, MeshLab sources, sample scans, build, plugin install) and
 # runs every test through ctest: unit, property and end-to-end (meshlabserver + GUI) tests, and
-# (issue 14) the PyMeshLab tests (tests/python) after scripts/setup_pymeshlab.sh.
+# (issue 14) the PyMeshLab tests (tests/python) after scripts/setup_pymeshlab.sh, and (issue 15)
+# the Blender tests (tests/blender) after scripts/setup_blender.sh.
 # Then (issue 16) the unit tests again under ASan + UBSan (tests/run_sanitized.sh, build-asan)
 # and a short libFuzzer smoke run of tests/fuzz/fuzz_mesh.cpp (scripts/fuzz.sh, build-fuzz).
 # Arguments go to every ctest run. Environment: FITMAP_SKIP_SANITIZE=1 skips the sanitizer run,
@@ -14,6 +15,8 @@ status=0
 # ctest's PyMeshLab.pytest runs tests/python with it. A failure here (no PyPI, a build error)
 # fails the run but still lets the MeshLab 2020.09 tests run.
 bash "$REPO/scripts/setup_pymeshlab.sh" || { echo "run_all: scripts/setup_pymeshlab.sh failed" >&2; status=1; }
+# Debian's Blender for tests/blender (issue 15: ctest's Blender.pytest, with .venv's pytest).
+bash "$REPO/scripts/setup_blender.sh" || { echo "run_all: scripts/setup_blender.sh failed" >&2; status=1; }
 (cd "${FITMAP_BUILD_DIR:-$REPO/build}" && ctest --output-on-failure -j"$(nproc)" "$@") || status=1
 if [ "${FITMAP_SKIP_SANITIZE:-0}" != 1 ]; then
   bash "$REPO/tests/run_sanitized.sh" "$@" || status=1

@@ -184,3 +184,46 @@ def test_fit_on_triangles_fails_with_the_importer_message():
     assert "Failed to apply filter: generate_catmull_clark_fit_and_displacement_bake\nDetails: " in str(e.value)
     assert "quad" in str(e.value)
     assert_layers_equal(before, layers_snapshot(ms))
+
+
+def test_filters_return_their_figures(tmp_path):
+    # PyMeshLab 2022.02+ returns a dict per filter: the pipeline filters give their figures, which
+    # must equal the layers' and report.json's.
+    ms = pymeshlab.MeshSet()
+    m = icosphere(4)
+    V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])  # an ellipsoid: the Fitmaps vary
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+    f = ms.compute_scalar_by_fitmaps_per_vertex()
+    assert f["vertices"] == ms.mesh(0).vertex_number()
+    assert 0 < f["min_radius"] < f["max_radius"] and f["seconds"] >= 0
+    q = ms.generate_fitmap_quad_simplification()
+    control = ms.mesh(1).polygonal_face_list()
+    assert q["patches"] == len(control) and 0 < q["patches"] < q["initial_patches"]
+    assert q["count_patches"] > 0  # the equalized layout's count pass ran (docs/quad.md "Layout")
+    assert 0 <= q["irregular_vertices"] <= ms.mesh(1).vertex_number()
+    r = ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0, outputdir=str(tmp_path))
+    rep = json.loads((tmp_path / "report.json").read_text())
+    for k in ["patches", "irregular_vertices", "rms_limit_permille", "max_limit_permille",
+              "rms_displaced_permille", "unprojectable_pct"]:
+        assert r[k] == pytest.approx(rep[k], rel=1e-6, abs=1e-9), k
+    assert r["warnings"] == len(rep["warnings"])
+
+
+def test_renderer_grid_bakes_for_blender(tmp_path):
+    # rendererGrid (issue 15, docs/blender.md) under its PyMeshLab spelling: the atlas says it was
+    # baked for the renderer's level-L subdivision, and the displaced layer is that uniform grid
+    # ((2^L + 1)^2 grid points per patch, shared ones counted once: V = P*4^L + 2 for a closed cage).
+    ms = pymeshlab.MeshSet()
+    m = icosphere(4)
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=m.vertex_matrix() * np.array([1.0, 0.6, 0.4]),
+                               face_matrix=m.face_matrix()), "ellipsoid")
+    ms.compute_scalar_by_fitmaps_per_vertex()
+    ms.generate_fitmap_quad_simplification()
+    r = ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0, outputdir=str(tmp_path),
+                                                            renderergrid=True)
+    atlas = json.loads((tmp_path / "displacement.json").read_text())
+    assert atlas["baked_for"] == "renderer"
+    L = atlas["subdivision_level"]
+    assert 2 ** L + 1 == max(t[2] for t in atlas["tiles"])
+    displaced = ms.mesh(ms.mesh_number() - 1)
+    assert displaced.vertex_number() == r["patches"] * 4 ** L + 2

@@ -66,6 +66,11 @@ struct DisplacementAtlas {
   std::vector<std::uint8_t> normalRGB;  ///< optional 3·width·height object-space normal map ((n+1)/2·255)
   std::vector<std::array<Eigen::Vector2d, 4>> wedgeUV;  ///< per control quad corner, OpenGL convention (v up)
   int misses = 0;                   ///< texels whose normal ray missed (closest-point fallback used)
+  /// The surface the atlas displaces. 0: each patch tessellated at its tile's texel spacing,
+  /// along the exact limit normal (paper §4). L > 0: the renderer's uniform level-L grid along
+  /// its mesh vertex normals (renderer_grid.h: what Blender's Subdivision Surface + Displace
+  /// modifiers rebuild). Set before BakeDisplacement; the texel fit and DisplacedSurface follow.
+  int rendererLevel = 0;
   int Patches() const { return int(tileR.size()); }
   /// Index into disp / q16 (and / 3 into normalRGB) of patch f's texel (i,j).
   size_t Pixel(int f, int i, int j) const { return size_t(tileY[f] + j) * width + tileX[f] + i; }
@@ -158,6 +163,10 @@ struct DisplacementFitStats {
 DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                                      int minSegments, double maxDist, const DisplacementFitParams& p,
                                      DisplacementAtlas& a);
+/// Same, on a displaced layer's base already built (DisplacementBase of `a`): FitAndBake builds
+/// it once for the fit and DisplacedSurface.
+DisplacementFitStats FitDisplacement(const LimitSurface& ls, const TriData& ref, const LimitTessellation& base,
+                                     double maxDist, const DisplacementFitParams& p, DisplacementAtlas& a);
 
 /// Triangles of a (displaced) tessellation facing against the limit normals of their corners
 /// (sum of the three): folds, where the displacement along converging normals crosses over.
@@ -169,9 +178,16 @@ int FoldedTriangles(const LimitTessellation& t);
 /// of its patch's tile. Where minSegments <= tileR-1 the vertices sit exactly on the texels. Decision: a tile coarser than the
 /// limit layer (automatic R is small when patches are many) must not make the displaced surface
 /// coarser than the limit surface it adds detail to (elephant, 944 patches, R = 2: displaced RMS
-/// 4.2 permille vs limit 0.74 before this).
+/// 4.2 permille vs limit 0.74 before this). With a.rendererLevel = L > 0: the uniform level-L
+/// grid instead, each vertex moved along its mesh normal (RendererGrid), as Blender rebuilds it.
 LimitTessellation DisplacedSurface(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a,
                                    int minSegments = 0);
+/// The surface DisplacedSurface displaces (its vertices along their normals, undisplaced): the
+/// per-tile tessellation with limit normals, or the renderer's grid (a.rendererLevel).
+LimitTessellation DisplacementBase(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const DisplacementAtlas& a,
+                                   int minSegments);
+/// DisplacedSurface of a base already built (DisplacementBase of `a`).
+LimitTessellation DisplacedSurface(const LimitSurface& ls, const DisplacementAtlas& a, LimitTessellation base);
 
 /// Table-1 metrics. Errors are one-sided, per reference vertex (unweighted; scans are roughly
 /// uniformly sampled): the distance from every reference vertex to its closest point on the
@@ -215,6 +231,12 @@ double UnprojectablePercent(const LimitTessellation& lim, const TriData& ref, co
 double UnprojectablePercent(const LimitTessellation& lim, const EmbreeScene& limScene, const TriData& ref,
                             const EmbreeScene& scene, double maxDist);
 
+/// Cap of the automatic metric tessellation (FitBakeParams::metricSegments): finer changes no
+/// figure (bunny00 x16, 382 patches: 79 segments, the reference's density, and 32 give RMS limit
+/// 0.881 and max 5.047 / 5.046 permille; 24 gives 0.882) but costs time and memory there
+/// (metrics 18.7 -> 12.8 s, peak 1356 -> 1090 MB on a loaded machine, 2026-12-02).
+constexpr int kMaxAutoMetricSegments = 32;
+
 /// Parameters of FitAndBake.
 struct FitBakeParams {
   FitParams fit;
@@ -228,9 +250,17 @@ struct FitBakeParams {
   int maxTexels = 2048 * 2048;
   bool normalMap = false;         ///< also bake the normal map
   double maxDistPercent = 10.0;   ///< max displacement / projection distance, % bbox diagonal
-  int metricSegments = 0;         ///< tessellation used for the limit error / projectability; 0 = auto
+  /// Tessellation per patch side used for the limit error / projectability; 0 = auto: about one
+  /// triangle per reference triangle, sqrt(2 F_ref / patches), between limitSegments and
+  /// kMaxAutoMetricSegments.
+  int metricSegments = 0;
   bool computeMetrics = true;
   bool fitDisplacement = true;    ///< least-squares texels (FitDisplacement) instead of the paper's point samples
+  /// Bake for the surface a renderer rebuilds: the uniform level-L subdivision along its mesh
+  /// normals (DisplacementAtlas::rendererLevel = RendererLevel: one grid vertex per texel of the
+  /// largest tile), instead of the per-tile tessellation along the limit normal. Blender then
+  /// shows the reported displaced error (docs/blender.md); costs a denser displaced layer.
+  bool rendererGrid = false;
   DisplacementFitParams displacementFit;
 };
 

@@ -56,6 +56,11 @@ struct FitParams {
   int maxIterations = 8;               ///< project → solve iterations (at least 1)
   double minImprovement = 0.01;        ///< stop when the RMS improves by less than this fraction
   double dampingWeight = 1e-3;         ///< λ relative to mean(diag(AᵀWA)): pull to the previous iterate
+  /// TangentDistance: when a solve raises the objective, go back to the best iterate and solve
+  /// again with 10× the damping, at most this many times (Levenberg–Marquardt). 0 = stop at the
+  /// first increase (before 2026-12-02: on man.off with ~6 input vertices per patch the first
+  /// solve overshot and the fit kept the unfitted cage).
+  int dampingRetries = 3;
   double smoothWeight = 0.0;           ///< μ relative to mean(diag(AᵀWA)): control-net Laplacian (off; both methods)
   double maxMissFraction = 0.5;        ///< error if more limit samples than this miss the reference by ray
   FitMethod method = FitMethod::TangentDistance;  ///< PointToPoint = the paper's literal §3.5
@@ -63,6 +68,12 @@ struct FitParams {
   double sampleWeight = 1.0;           ///< TangentDistance: weight of the paper's limit-sample (and vertex) rows
   double dataWeight = 1.0;             ///< TangentDistance: weight of a reference-vertex row relative to a limit-sample row
   int footpointSegments = 4;           ///< TangentDistance: tessellation (per patch side) used to seed the foot points
+  /// TangentDistance: at most this many reference-vertex rows (every k-th vertex, k = ⌈n / max⌉,
+  /// each weighted k× so the balance with the sample rows stays); 0 = every vertex. A fit of a
+  /// few hundred patches is decided long before 200k points: on dense scans (bunny00 ×16,
+  /// 600k vertices) the foot points of every vertex were most of the fit's time
+  /// (docs/multires.md). The reported errors are measured on every vertex.
+  int maxDataRows = 200000;
 };
 
 /// Outcome of FitCatmullClark. When `error` is non-empty, only `error` is meaningful.
@@ -78,6 +89,7 @@ struct FitResult {
   std::vector<double> rmsPerIteration; ///< RMS sample→target distance (absolute) at each projection
   double rayMissFraction = 0;          ///< share of samples whose normal ray missed (last projection)
   int iterations = 0;                  ///< solves performed
+  int dampingRetries = 0;              ///< TangentDistance: solves redone with 10× damping (FitParams::dampingRetries)
   std::vector<double> dataRmsPerIteration;  ///< TangentDistance: RMS reference vertex → limit (foot points), absolute
   std::vector<double> objectivePerIteration;///< TangentDistance: weighted RMS of all rows (the stopping criterion)
   double secondsSetup = 0, secondsFactor = 0, secondsProject = 0, secondsSolve = 0, seconds = 0;

@@ -119,7 +119,14 @@ std::string WriteAtlasJson(const std::string& path, const DisplacementAtlas& a, 
   o << "  \"patches\": " << a.wedgeUV.size() << ",\n"
     << "  \"samples\": " << a.Samples() << ",\n"
     << "  \"scale\": " << Num(a.scale) << ",\n  \"offset\": " << Num(a.offset) << ",\n"
-    << "  \"decode\": \"displacement = offset + scale * value (mesh units, along the unit limit normal)\",\n"
+    << "  \"decode\": \"displacement = offset + scale * value (mesh units, along the unit "
+    << (a.rendererLevel > 0 ? "vertex normal of the uniform level-" + std::to_string(a.rendererLevel) +
+                                  " subdivision (corner-angle-weighted quad normals, as Blender's), "
+                                  "sampled at that subdivision's vertices)"
+                            : std::string("limit normal)"))
+    << "\",\n"
+    << "  \"baked_for\": \"" << (a.rendererLevel > 0 ? "renderer" : "limit") << "\",\n"
+    << "  \"subdivision_level\": " << a.rendererLevel << ",\n"
     << "  \"layout\": \""
     << (a.adaptive ? "patch f -> tiles[f] = [x, y, size]: the size x size texels whose top-left pixel is (x, y) "
                      "(row 0 at the top of the image); sizes are 2^k+1, and along an edge shared with a "

@@ -60,6 +60,8 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
                                Progress& prog) {
   const int nV = ls.NumVertices(), nF = ls.NumFaces(), nR = int(rows.size()), nRef = int(ref.V.size());
   const double wt = p.tangentWeight;
+  // maxDataRows: every dataStride-th reference vertex gets a row (weighted dataStride times).
+  const int dataStride = p.maxDataRows > 0 && nRef > p.maxDataRows ? (nRef + p.maxDataRows - 1) / p.maxDataRows : 1;
   const auto refN = FaceNormals(ref);
 
   // ---- fixed pattern: face supports (stencil indices are the patch's control points).
@@ -136,6 +138,9 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   double bestObj = std::numeric_limits<double>::infinity();
   std::vector<Vec3> ctrl(nV);
 
+  double dampingScale = 1;  // x10 after each solve that raised the objective
+  int retries = 0;
+  bool reverted = false;
   for (int it = 0; it <= p.maxIterations; ++it) {
     auto tp = Clock::now();
     for (int v = 0; v < nV; ++v) ctrl[v] = X.row(v).transpose();
@@ -192,7 +197,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     for (int i = 0; i < nRef; ++i) {
       Constraint& c = cons[size_t(nR) + i];
       c.weight = 0;
-      if (p.dataWeight <= 0) continue;
+      if (p.dataWeight <= 0 || i % dataStride) continue;
       const Vec3& x = ref.V[i];
       EmbreeScene::Hit h = limScene.ClosestPoint(x, maxDist, hint);
       if (!h.valid) continue;
@@ -235,7 +240,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
       c.n = st.Size();
       c.target = x;
       c.normal = n.normalized();
-      c.weight = p.dataWeight;
+      c.weight = p.dataWeight * dataStride;
       dSq[i] = (x - S).squaredNorm();
     }
     }
@@ -245,8 +250,9 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     res.secondsProject += Since(tp);
     const double sRms = std::sqrt(sSum / std::max(sW, 1.0));
     const double dRms = std::sqrt(dSum / std::max(dW, 1.0));
-    const double obj = std::sqrt((p.sampleWeight * sSum + p.dataWeight * dSum) /
-                                 std::max(p.sampleWeight * sW + p.dataWeight * dW, 1e-300));
+    const double dataW = p.dataWeight * dataStride;
+    const double obj = std::sqrt((p.sampleWeight * sSum + dataW * dSum) /
+                                 std::max(p.sampleWeight * sW + dataW * dW, 1e-300));
     res.rayMissFraction = double(misses) / std::max(nS, 1);
     if (it == 0 && res.rayMissFraction > p.maxMissFraction)
       return "the control mesh is far from the reference: " +
@@ -256,7 +262,20 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     res.rmsPerIteration.push_back(sRms);
     res.dataRmsPerIteration.push_back(dRms);
     res.objectivePerIteration.push_back(obj);
-    if (StopIterating(obj, bestObj, X, best, p, it)) break;
+    if (reverted) {
+      reverted = false;  // X is the best iterate again: solve from it with the larger damping
+    } else if (!(obj < bestObj) && retries < p.dampingRetries && it < p.maxIterations) {
+      // The last solve raised the objective: back to the best iterate, 10x the damping
+      // (Levenberg-Marquardt; docs/fit.md "Damping").
+      X = best;
+      dampingScale *= 10;
+      ++retries;
+      ++res.dampingRetries;
+      reverted = true;
+      continue;
+    } else if (StopIterating(obj, bestObj, X, best, p, it)) {
+      break;
+    }
     prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
 
     // ---- assemble (per face, dense local blocks) and solve.
@@ -341,7 +360,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     // Damping λ = dampingWeight · mean diagonal (Levenberg; vanishes at the fixed point).
     double diagSum = 0;
     for (int v = 0; v < nV; ++v) diagSum += val[0][diagPos[v]] + val[3][diagPos[v]] + val[5][diagPos[v]];
-    const double lambda = p.dampingWeight * diagSum / (3.0 * nV);
+    const double lambda = dampingScale * p.dampingWeight * diagSum / (3.0 * nV);
     const double mu = p.smoothWeight * diagSum / (3.0 * nV);
     for (const auto& [q, x] : lapEntries)
       for (int s : {0, 3, 5}) val[s][q] += mu * x;
