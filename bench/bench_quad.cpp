@@ -7,6 +7,7 @@
 //                   [--rh PCT] [--mcap PCT] [--mscale X] [--no-m] [--no-fit]
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else /tmp/cgal/data/meshes/bunny00.off).
 //   --tau: tau values in percent (default 1,10); Fitmaps from vcgext::ComputeFitmaps (Fast mode).
+//   --no-area: the coverage guard's area trigger off (QuadSimplifyParams::coverageUnprojectablePct = 0).
 //   --no-fit: skip the §3.5 global fit (vcgext::FitCatmullClark) before the second projectability figure.
 //   --target N: stop at N patches; --no-m: no M-fitmap test (with --target: a fixed budget).
 //   --rh PCT: the Fitmaps' largest radius r_h, % of the bbox diagonal (default 25, the paper's).
@@ -143,7 +144,7 @@ int main(int argc, char** argv) {
   const char* env = std::getenv("FITMAP_DATA_DIR");
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
   int runs = 3, threads = 2, target = 0;
-  bool standin = false, finalFit = true, useM = true;
+  bool standin = false, finalFit = true, useM = true, noArea = false;
   double mscale = 1.0, dev = -1, devcap = -1, rh = -1, mcap = -1;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
@@ -154,6 +155,7 @@ int main(int argc, char** argv) {
     else if (a == "--target" && i + 1 < argc) target = std::atoi(argv[++i]);
     else if (a == "--standin") standin = true;
     else if (a == "--no-fit") finalFit = false;
+    else if (a == "--no-area") noArea = true;
     else if (a == "--no-m") useM = false;
     else if (a == "--dev" && i + 1 < argc) dev = std::atof(argv[++i]);
     else if (a == "--devcap" && i + 1 < argc) devcap = std::atof(argv[++i]);
@@ -201,6 +203,9 @@ int main(int argc, char** argv) {
       if (!fr.error.empty()) { std::fprintf(stderr, "fitmaps: %s\n", fr.error.c_str()); return 1; }
       S = fr.S;
       M = fr.M;
+      std::vector<double> sm = S, mm = M;
+      std::printf("fitmaps: median S %.4g, median M %.4g (bbox diagonal %.4g)\n", Median(sm), Median(mm),
+                  vcgext::BBoxDiagonal(in.V));
     }
     for (double& x : M) x *= mscale;
     if (mcap > 0) { double d = vcgext::BBoxDiagonal(in.V); for (double& x : M) x = std::min(x, mcap * d / 100); }
@@ -212,6 +217,7 @@ int main(int argc, char** argv) {
       std::printf("\n  M-fitmap (%% bbox diagonal): 10%% %.2f, median %.2f, 90%% %.2f\n", pc(0.1), pc(0.5), pc(0.9));
     }
     vcgext::QuadSimplifyParams p;
+    if (noArea) p.coverageUnprojectablePct = 0;
     p.targetPatches = target;
     p.useMFitmap = useM;
     if (dev >= 0) p.deviationFactor = dev;
@@ -250,6 +256,11 @@ int main(int argc, char** argv) {
                 r.rejectedTopology, r.rejectedFlip, r.rejectedDeviation);
     std::printf("  parallel checks  %.0f %% of the steps (AdaptiveParallelism)\n", 100 * r.parallelStepShare);
     std::printf("  flipped          %d patches, %d vertices\n", r.flippedPatches, r.flippedVertices);
+    if (r.coverageRelayouts > 0)
+      std::printf("  coverage guard   %d layout passes from %d patches (guard's figures: RMS %.3g, unreached %.3f%%)\n",
+                  r.coverageRelayouts, r.coverageFromPatches, r.coverageFromRms, r.coverageFromUnprojectablePct);
+    if (r.layoutUnprojectablePct >= 0)
+      std::printf("  unreached        %.3f%% (the guard's estimate on the kept cage)\n", r.layoutUnprojectablePct);
     std::printf("  projectable      %.2f%% of the input area (control mesh as simplified, limit interpolates)\n", proj);
     if (finalFit)
       std::printf("  projectable      %.2f%% after the global fit of §3.5 (vcgext::FitCatmullClark, %.2f s)\n", projFit, tFinal);

@@ -189,14 +189,18 @@ bool ApplyQuad(GlueContext& ctx) {
     ctx.log(c.str());
   }
   ctx.Value("coverage_relayouts", r.coverageRelayouts);
+  if (r.layoutUnprojectablePct >= 0) ctx.Value("cage_unprojectable_pct", r.layoutUnprojectablePct);
   if (r.coverageRelayouts > 0) {
     const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
     std::ostringstream g;
     g << "Fitmap Quad Simplification: the " << r.coverageFromPatches << "-patch cage did not cover the input "
       << "(its interpolating limit stays " << r.coverageFromRms * pm
-      << " per mille of the diagonal from it, RMS, more than 5 tau: the M-fitmap did not stop the collapses, as "
-         "on thin closed parts and sharp solids); laid out again with "
-      << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille)";
+      << " per mille of the diagonal from it, RMS, and leaves " << r.coverageFromUnprojectablePct
+      << " % of its area unreached by projection; limits 5 tau and " << p.coverageUnprojectablePct
+      << " %: the M-fitmap did not stop the collapses, as on thin closed parts, flat open ones and sharp "
+         "solids); laid out again with "
+      << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached " << r.layoutUnprojectablePct
+      << " %)";
     ctx.log(g.str());
   }
   if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);

@@ -201,6 +201,9 @@ def test_filters_return_their_figures(tmp_path):
     assert q["patches"] == len(control) and 0 < q["patches"] < q["initial_patches"]
     assert q["count_patches"] > 0  # the equalized layout's count pass ran (docs/quad.md "Layout")
     assert 0 <= q["irregular_vertices"] <= ms.mesh(1).vertex_number()
+    # the coverage guard's area trigger measured the kept cage: a closed cage leaves nothing
+    # beyond its outline (docs/robustness.md "Flat and open shapes")
+    assert q["cage_unprojectable_pct"] == 0 and q["coverage_relayouts"] == 0
     r = ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0, outputdir=str(tmp_path))
     rep = json.loads((tmp_path / "report.json").read_text())
     for k in ["patches", "irregular_vertices", "rms_limit_permille", "max_limit_permille",

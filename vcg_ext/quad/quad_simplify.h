@@ -80,6 +80,13 @@ struct QuadSimplifyParams {
   /// nefertiti's 17-patch cage 23); smooth limits of sharp CAD solids above (cube.off 134:
   /// a 16-patch cage 2.4 tau off after the fit). 0 = off.
   double coverageRmsPermille = 50;
+  /// The guard's second trigger: the share of the input's area (%) lying wholly beyond the
+  /// outline of the interpolating limit (triangles whose sample points' closest limit points are
+  /// on the limit's boundary and off its normal: no normal line reaches them; <= 20k triangles
+  /// tested). Catches flat and open shapes whose M never stops the collapses while the RMS stays
+  /// low: the corpus disk's 5-patch cage leaves 9.9 % (docs/robustness.md "Flat and open
+  /// shapes"). Half the report's 1 % warning level. 0 = off.
+  double coverageUnprojectablePct = 0.5;
   /// Equalized: the count pass starts from the start mesh decimated to this many triangles
   /// (larger start meshes only; the count moves by ~2 % between 10k and 40k on bunny00).
   int countFaces = 10000;
@@ -149,6 +156,8 @@ struct QuadSimplifyResult {
   int coverageRelayouts = 0;
   int coverageFromPatches = 0;
   double coverageFromRms = 0;
+  double coverageFromUnprojectablePct = 0;  ///< that cage's unprojectable share (%)
+  double layoutUnprojectablePct = -1;       ///< the kept cage's (guard on; -1: not measured)
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
