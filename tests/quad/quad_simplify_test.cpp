@@ -615,12 +615,10 @@ vcgext::TriData FlatDisk(int rings, int segs) {
   return t;
 }
 
-// RMS distance from the input's vertices to the limit surface of r's cage (8 x 8 per patch):
-// whether the cage covers the input (the other direction, RmsLimitDistance, cannot tell).
-double InputToLimitRms(const vcgext::TriData& in, const vcgext::QuadSimplifyResult& r) {
+// The limit surface of r's cage tessellated k x k per patch (exact points, LimitSurface).
+vcgext::TriData TessellateCage(const vcgext::QuadSimplifyResult& r, int k) {
   vcgext::LimitSurface ls = vcgext::LimitSurface::FromQuads(r.quads);
   EXPECT_TRUE(ls.Ok()) << ls.Error();
-  const int k = 8;
   vcgext::TriData tess;
   for (int f = 0; f < ls.NumFaces(); ++f) {
     const int base = int(tess.V.size());
@@ -637,7 +635,13 @@ double InputToLimitRms(const vcgext::TriData& in, const vcgext::QuadSimplifyResu
         tess.F.push_back({a, a + k + 2, a + k + 1});
       }
   }
-  vcgext::EmbreeScene lim(tess);
+  return tess;
+}
+
+// RMS distance from the input's vertices to the limit surface of r's cage (8 x 8 per patch):
+// whether the cage covers the input (the other direction, RmsLimitDistance, cannot tell).
+double InputToLimitRms(const vcgext::TriData& in, const vcgext::QuadSimplifyResult& r) {
+  vcgext::EmbreeScene lim(TessellateCage(r, 8));
   double sum = 0;
   for (const Vec3& x : in.V) sum += (lim.ClosestPoint(x).point - x).squaredNorm();
   return std::sqrt(sum / double(in.V.size()));
@@ -703,26 +707,8 @@ TEST(QuadSimplify, CoverageGuardRelaysACageThatLeavesADisksRim) {
   // whose points (a barycentric grid of 66) lies in that region, i.e. within 1e-5 of a 24 x 24
   // tessellation of it (Embree works in floats)
   auto unreached = [&](const vcgext::QuadSimplifyResult& r) {
-    vcgext::LimitSurface ls = vcgext::LimitSurface::FromQuads(r.quads);
-    EXPECT_TRUE(ls.Ok()) << ls.Error();
-    const int k = 24;
-    vcgext::TriData tess;
-    for (int f = 0; f < ls.NumFaces(); ++f) {
-      const int base = int(tess.V.size());
-      for (int j = 0; j <= k; ++j)
-        for (int i = 0; i <= k; ++i) {
-          Vec3 P;
-          ls.Evaluate(f, double(i) / k, double(j) / k, r.quads.V, &P);
-          EXPECT_NEAR(P.z(), 0.0, 1e-12);
-          tess.V.push_back(P);
-        }
-      for (int j = 0; j < k; ++j)
-        for (int i = 0; i < k; ++i) {
-          const int a = base + j * (k + 1) + i;
-          tess.F.push_back({a, a + 1, a + k + 2});
-          tess.F.push_back({a, a + k + 2, a + k + 1});
-        }
-    }
+    const vcgext::TriData tess = TessellateCage(r, 24);
+    for (const Vec3& P : tess.V) EXPECT_NEAR(P.z(), 0.0, 1e-12);
     vcgext::EmbreeScene lim(tess);
     double total = 0, out = 0;
     for (const auto& f : t.F) {
