@@ -9,10 +9,14 @@
 
 #include "../filter_table.h"
 #include "../glue.h"
+#include "vcg_ext/core/input_prep.h"
 
 using namespace fitmapquad;
 
 FilterFitmapQuadPlugin::FilterFitmapQuadPlugin() {
+  // compute on the float coordinates MeshLab 2020.09 reads, so both plugins give the same cages
+  // (vcg_ext/core/input_prep.h, CoordinatePrecision)
+  vcgext::SetInputCoordinatePrecision(vcgext::CoordinatePrecision::Float);
   for (const auto& f : AllFilters()) {
     typeList.push_back(f.id);
     actionList.push_back(new QAction(QString(f.name), this));

@@ -289,3 +289,72 @@ TEST(InputPrep, RepeatedLargeLayerGivesTheSameCopyAndAChangedOneAFreshCopy) {
   EXPECT_EQ(e.mesh.F, a.mesh.F);
   EXPECT_EQ(e.flippedFaces, a.flippedFaces);
 }
+
+// CoordinatePrecision::Float (what the 2022.02+ plugin sets): every coordinate rounded to float,
+// as MeshLab 2020.09 reads it. Checked against float's own rounding one value at a time: g++ 12.2
+// at -O2 turned the plain loop into the identity for two coordinates of three (the reason
+// RoundCoordinatesToFloat goes through a volatile). A small object far from the origin, where
+// float's spacing is coarser than 1e-6 of its size, keeps double.
+TEST(InputPrep, RoundingToFloatRoundsEveryCoordinateAndSparesFarObjects) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Vec3> V(1001);
+  for (Vec3& v : V) v = Vec3(u(rng), u(rng), u(rng));
+  const std::vector<Vec3> before = V;
+  ASSERT_TRUE(vcgext::RoundCoordinatesToFloat(V));
+  int unrounded = 0, moved = 0;
+  for (size_t i = 0; i < V.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      volatile float f = static_cast<float>(before[i][k]);
+      unrounded += V[i][k] != static_cast<double>(f);
+      moved += V[i][k] != before[i][k];
+    }
+  EXPECT_EQ(unrounded, 0);
+  EXPECT_GT(moved, 2900);  // random doubles are almost never floats
+  // 1 m object at 1e6 m from the origin: float's spacing there is 0.06 m
+  std::vector<Vec3> far = before;
+  for (Vec3& v : far) v += Vec3(1e6, 0, 0);
+  const std::vector<Vec3> farBefore = far;
+  EXPECT_FALSE(vcgext::RoundCoordinatesToFloat(far));
+  EXPECT_TRUE(far == farBefore);
+}
+
+namespace {
+// A double-precision vcg mesh, like MeshLab 2022.02+'s CMeshO.
+class DV;
+class DF;
+struct DU : public vcg::UsedTypes<vcg::Use<DV>::AsVertexType, vcg::Use<DF>::AsFaceType> {};
+class DV : public vcg::Vertex<DU, vcg::vertex::Coord3d, vcg::vertex::BitFlags> {};
+class DF : public vcg::Face<DU, vcg::face::VertexRef, vcg::face::BitFlags> {};
+class DM : public vcg::tri::TriMesh<std::vector<DV>, std::vector<DF>> {};
+}  // namespace
+
+// The process-wide switch: AsGiven by default (the layer's doubles as they are); under Float
+// PrepareWorkingCopy of a double layer computes on the float-rounded coordinates.
+TEST(InputPrep, WorkingCopyOfADoubleLayerIsRoundedOnlyUnderFloatPrecision) {
+  const TriData t = testsupport::Icosphere(2);
+  DM m;
+  vcg::tri::Allocator<DM>::AddVertices(m, t.V.size());
+  vcg::tri::Allocator<DM>::AddFaces(m, t.F.size());
+  for (size_t i = 0; i < t.V.size(); ++i) m.vert[i].P() = vcg::Point3d(t.V[i][0], t.V[i][1], t.V[i][2]) * (1.0 / 3.0);
+  for (size_t f = 0; f < t.F.size(); ++f)
+    for (int k = 0; k < 3; ++k) m.face[f].V(k) = &m.vert[t.F[f][k]];
+  auto floats = [](const TriData& d) {  // coordinates that are floats
+    int n = 0;
+    for (const Vec3& v : d.V)
+      for (int k = 0; k < 3; ++k) {
+        volatile float f = static_cast<float>(v[k]);
+        n += v[k] == static_cast<double>(f);
+      }
+    return n;
+  };
+  ASSERT_EQ(vcgext::InputCoordinatePrecision(), vcgext::CoordinatePrecision::AsGiven);
+  const WorkingCopy a = vcgext::PrepareWorkingCopy(m);
+  vcgext::SetInputCoordinatePrecision(vcgext::CoordinatePrecision::Float);
+  const WorkingCopy b = vcgext::PrepareWorkingCopy(m);
+  vcgext::SetInputCoordinatePrecision(vcgext::CoordinatePrecision::AsGiven);
+  ASSERT_TRUE(a.error.empty() && b.error.empty());
+  ASSERT_EQ(a.mesh.V.size(), b.mesh.V.size());
+  EXPECT_LT(floats(a.mesh), int(3 * a.mesh.V.size()) / 2);  // thirds are rarely floats
+  EXPECT_EQ(floats(b.mesh), int(3 * b.mesh.V.size()));
+}

@@ -79,8 +79,26 @@ std::vector<double> AttributeOnWorkingCopy(const WorkingCopy& w, const MeshType&
 /// working vertex, a quad repeats a vertex after merging, or faces were re-oriented.
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads);
 
+/// Precision of the coordinates PrepareWorkingCopy reads from a layer. MeshLab 2020.09 stores a
+/// layer's coordinates as float, MeshLab 2022.02+ (PyMeshLab) as double, so the same file gives
+/// the two plugins numbers that differ in the 8th digit, and the simplification's greedy choices
+/// (the quadric decimation of the working resolution first of all) amplify that into different
+/// cages (bunny00: 394 vs 394 patches but 110 vs 119 irregular vertices, RMS limit 0.85 vs
+/// 0.97 per mille). `Float` (what the 2022.02+ plugin sets when it loads) rounds each coordinate
+/// to float, as MeshLab 2020.09's readers do, so both plugins compute on the same numbers; a layer
+/// for which float is too coarse (a coordinate's float spacing, 2^-24 |x|, above 1e-6 of the bbox
+/// diagonal: a small object far from the origin, e.g. georeferenced) keeps double.
+/// Process-wide; `AsGiven` (the default) leaves the values alone. docs/meshlab2025_feasibility.md.
+enum class CoordinatePrecision { AsGiven, Float };
+void SetInputCoordinatePrecision(CoordinatePrecision p);
+CoordinatePrecision InputCoordinatePrecision();
+
+/// Rounds the coordinates `V` to float if that moves none by more than 2^-24 |x| <= 1e-6 of the
+/// bbox diagonal (see CoordinatePrecision); returns whether it did.
+bool RoundCoordinatesToFloat(std::vector<Vec3>& V);
+
 /// Reads a vcg layer (polygonal layers as their triangles: faux edges are only flags) and
-/// prepares its working copy. Errors of ImportTriangles (empty, point cloud, NaN/Inf, face
+/// prepares its working copy (coordinates rounded to float under CoordinatePrecision::Float). Errors of ImportTriangles (empty, point cloud, NaN/Inf, face
 /// indices out of range) come through `error`.
 template <class MeshType>
 WorkingCopy PrepareWorkingCopy(const MeshType& m) {
@@ -91,6 +109,7 @@ WorkingCopy PrepareWorkingCopy(const MeshType& m) {
     w.error = rep.error;
     return w;
   }
+  if (InputCoordinatePrecision() == CoordinatePrecision::Float) RoundCoordinatesToFloat(raw.V);
   return PrepareWorkingCopy(raw);
 }
 
