@@ -4,7 +4,8 @@
 #   2. MeshLab 2020.09 sources (src/common + vcglib) via `apt-get source meshlab`,
 #   3. real scans from Debian's libcgal-demo data (never committed),
 #   4. configure + build (Release) + install the plugin where Debian's meshlab loads it.
-# Environment: FITMAP_BUILD_DIR (default <repo>/build), FITMAP_SKIP_INSTALL=1 to skip step 4's install.
+# Environment: FITMAP_BUILD_DIR (default <repo>/build), FITMAP_SKIP_INSTALL=1 to skip step 4's install,
+# FITMAP_SETUP_SOURCES_ONLY=1 to stop after step 2 (scripts/setup_pymeshlab.sh).
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 DEPS="$REPO/.deps"
@@ -44,6 +45,8 @@ if [ ! -f "$MESHLAB_SRC/src/common/interfaces.h" ]; then
   (cd "$DEPS" && apt-get source -q meshlab=2020.09+dfsg1-2 >/dev/null 2>&1)
   [ -f "$MESHLAB_SRC/src/common/interfaces.h" ] || { log "MeshLab sources not found after apt-get source"; exit 1; }
 fi
+# scripts/setup_pymeshlab.sh needs only these sources (its build decimates with 2020.09's vcglib)
+[ "${FITMAP_SETUP_SOURCES_ONLY:-0}" = 1 ] && exit 0
 
 if [ ! -f "$DATA/bunny00.off" ]; then
   log "fetching sample scans (libcgal-demo data)"

@@ -6,7 +6,8 @@
 #      mirror, so the upstream tarball (checked by its sha256) is unpacked with tar into
 #      .deps/meshlab-2025.07.
 #   2. .venv/ at the repository root: PyMeshLab 2025.7.post1 from PyPI, and pytest.
-#   3. build-2025: cmake -DFITMAP_MESHLAB_API=2025 (vcg_ext + the FilterPlugin plugin, double).
+#   3. build-2025: cmake -DFITMAP_MESHLAB_API=2025 (vcg_ext + the FilterPlugin plugin, double;
+#      decimate.cpp against MeshLab 2020.09's vcglib, fetched by scripts/setup.sh if missing).
 #   4. The plugin copied into the venv's pymeshlab/lib/plugins/, so `import pymeshlab` loads it.
 # Needs the build packages of scripts/setup.sh (installs the ones it uses if missing).
 # Environment: FITMAP_JOBS (default nproc) build jobs.
@@ -72,6 +73,12 @@ PYML=$("$VENV/bin/python" -c "import os, pymeshlab; print(os.path.dirname(pymesh
 [ -f "$PYML/lib/libmeshlab-common.so" ] || { log "no libmeshlab-common.so in $PYML/lib"; exit 1; }
 
 # ------------------------------------------------------------------ 3. build-2025
+# vcg_ext/core/decimate.cpp is compiled against MeshLab 2020.09's vcglib in this build too (same
+# decimation, same cages: CMakeLists.txt, vcgx_decimate2020): its sources come from scripts/setup.sh.
+if [ ! -f "$DEPS/meshlab-2020.09+dfsg1/vcglib/vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h" ]; then
+  log "fetching MeshLab 2020.09's sources for its vcglib (scripts/setup.sh)"
+  FITMAP_SETUP_SOURCES_ONLY=1 bash "$REPO/scripts/setup.sh"
+fi
 log "building the 2022.02+ plugin in $BUILD"
 cmake -S "$REPO" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DFITMAP_MESHLAB_API=2025 \
       -DMESHLAB_SRC_DIR="$SRC" -DPYMESHLAB_LIB_DIR="$PYML/lib" >/dev/null
