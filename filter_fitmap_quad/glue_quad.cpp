@@ -185,7 +185,9 @@ bool ApplyQuad(GlueContext& ctx) {
                                        std::to_string(r.paperLayoutRms * pm) + " per mille"
                                  : std::string())
         << "; the M-fitmap refusals above are the counting pass's)";
-    c << "; the other pass took " << r.secondsCount << " s";
+    c << "; the count pass took " << r.secondsCount + r.secondsCountOverlapped << " s";
+    if (r.secondsCountOverlapped > 0)
+      c << " (" << r.secondsCountOverlapped << " s of it on a second thread beside the layout pass)";
     ctx.log(c.str());
   }
   ctx.Value("coverage_relayouts", r.coverageRelayouts);

@@ -422,6 +422,50 @@ TEST(QuadSimplify, EqualizedLayoutSpendsThePaperCountByTheSFitmap) {
   EXPECT_LT(ee, 0.8 * ep);
 }
 
+// The count pass on a coarse start runs on a second thread beside the layout pass (which waits
+// at countFaces / 16 patches until the count is known). The cage must be the sequential run's bit
+// for bit (ParallelChecks::Never runs the two passes in sequence), the count pass must really
+// have overlapped, and a count too high for the coarse start (a recount on the real start mesh)
+// must cancel the overlapped layout pass and give the sequential result too.
+TEST(QuadSimplify, CountPassBesideTheLayoutPassGivesTheSequentialCage) {
+#ifdef _OPENMP
+  if (omp_get_max_threads() < 2) GTEST_SKIP() << "one thread: no second thread for the count pass";
+#endif
+  auto t = testsupport::Icosphere(5);  // 20480 triangles
+  for (auto& v : t.V) v = Vec3(v[0], 0.5 * v[1], 0.3 * v[2]);
+  vcgext::EmbreeScene scene(t);
+  std::vector<double> S, M;
+  SyntheticFitmaps(t, S, M);
+  for (size_t i = 0; i < t.V.size(); ++i) M[i] = t.V[i][0] > 0 ? 0.6 : 0.12;
+  // countFaces 5000: the count (~100 patches) is below the floor 312; 1200: floor 75, the count
+  // is above 1200 / 16 = 75, so the coarse count asks for a recount
+  for (int countFaces : {5000, 1200}) {
+    vcgext::QuadSimplifyParams overlapped, sequential;
+    overlapped.countFaces = sequential.countFaces = countFaces;
+    sequential.parallelChecks = vcgext::QuadSimplifyParams::ParallelChecks::Never;
+    auto ro = vcgext::SimplifyToQuads(t, scene, S, M, overlapped);
+    auto rs = vcgext::SimplifyToQuads(t, scene, S, M, sequential);
+    ASSERT_TRUE(ro.error.empty()) << ro.error;
+    ASSERT_TRUE(rs.error.empty()) << rs.error;
+    ExpectGuarantees(t, ro);
+    EXPECT_EQ(ro.quads.F, rs.quads.F) << "countFaces " << countFaces;
+    EXPECT_EQ(ro.quads.V, rs.quads.V) << "countFaces " << countFaces;
+    EXPECT_EQ(ro.countPatches, rs.countPatches);
+    EXPECT_EQ(ro.countStartFaces, rs.countStartFaces);
+    EXPECT_EQ(rs.secondsCountOverlapped, 0.0);
+    std::printf("countFaces %d: %d patches (count %d from %d triangles); count pass %.3f s, %.3f s of it overlapped\n",
+                countFaces, ro.patches, ro.countPatches, ro.countStartFaces, ro.secondsCount + ro.secondsCountOverlapped,
+                ro.secondsCountOverlapped);
+    if (countFaces == 5000) {
+      EXPECT_LE(ro.countPatches, countFaces / 16);
+      EXPECT_GT(ro.secondsCountOverlapped, 0.0);
+    } else {
+      EXPECT_EQ(ro.countStartFaces, int(t.F.size()));  // recounted on the real start mesh
+      EXPECT_EQ(ro.secondsCountOverlapped, 0.0);       // the overlapped layout was cancelled
+    }
+  }
+}
+
 // A start mesh of up to 1.25 x countFaces is counted as it is: the count pass is then the paper's
 // own result, and the cage kept is the one whose interpolating limit is closer to the input. The
 // paper's cage, when kept, is the PaperHalting run's bit for bit; the other is a layout pass's.

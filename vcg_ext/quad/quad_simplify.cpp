@@ -7,10 +7,14 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <limits>
+#include <mutex>
 #include <queue>
+#include <thread>
 #include <unordered_map>
 
 #include "vcg_ext/core/decimate.h"
@@ -135,6 +139,39 @@ struct FaceInfo {
   double dist = 0;  ///< |phi(c) - c| (valid when hit >= 0)
 };
 
+// The layout pass's patch target while the count pass that sets it runs on another thread
+// (Layout::Equalized, docs/quad.md "Layout": the two passes overlap). Until the count is known the
+// layout pass goes on down to `floor`, a bound no count can exceed without a recount (which
+// cancels the layout pass: it is redone after the recount), and waits there.
+class LayoutGate {
+ public:
+  explicit LayoutGate(int floor) : floor_(floor) {}
+  int Floor() const { return floor_; }
+  /// 0: not known yet; > 0: the target; < 0: cancelled.
+  int Target() const { return target_.load(std::memory_order_acquire); }
+  void Set(int target) {
+    {
+      std::lock_guard<std::mutex> g(m_);
+      target_.store(target, std::memory_order_release);
+    }
+    cv_.notify_all();
+  }
+  /// Blocks until the target is known (or cancelled); adds the time waited to `waited`.
+  int Wait(double* waited) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> l(m_);
+    cv_.wait(l, [this] { return target_.load(std::memory_order_acquire) != 0; });
+    *waited += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return target_.load(std::memory_order_acquire);
+  }
+
+ private:
+  const int floor_;
+  std::atomic<int> target_{0};
+  std::mutex m_;
+  std::condition_variable cv_;
+};
+
 class Simplifier {
  public:
   // `start`: the mesh the control mesh starts from (M' of §4, or `in` itself); its vertices are
@@ -163,6 +200,10 @@ class Simplifier {
     }
   }
   bool Pinned(int v) const { return v < int(pinned_.size()) && pinned_[v]; }
+
+  LayoutGate* gate = nullptr;  ///< set: the target comes from the count pass beside this one
+  bool cancelled = false;      ///< the gate cancelled this pass (Run returned early)
+  double gateWait = 0;         ///< seconds this pass waited for the count
 
   QuadMesh K;
 
@@ -658,9 +699,19 @@ class Simplifier {
     AdaptiveParallelism mode(maxThreads > 1 && p_.parallelChecks == PC::Adaptive);
     int blockSteps = 0, parallelSteps = 0, steps = 0;
     auto blockStart = std::chrono::steady_clock::now();
-    auto threadsFor = [&](bool parallel) { return p_.parallelChecks == PC::Always || parallel ? maxThreads : 1; };
+    // serial checks while the count pass holds the other core (gate target not known yet)
+    auto threadsFor = [&](bool parallel) {
+      if (gate && gate->Target() == 0) return 1;
+      return p_.parallelChecks == PC::Always || parallel ? maxThreads : 1;
+    };
     checkThreads_ = threadsFor(mode.Parallel());
     while (!heap_.empty()) {
+      if (gate) {
+        int t = gate->Target();
+        if (t == 0 && K.NumFaces() <= gate->Floor()) t = gate->Wait(&gateWait);
+        if (t < 0) { cancelled = true; return true; }
+        if (t > 0 && K.NumFaces() <= t) break;
+      }
       if (p_.targetPatches > 0 && K.NumFaces() <= p_.targetPatches) break;
       Entry e = heap_.top();
       heap_.pop();
@@ -853,7 +904,8 @@ std::string CheckInputs(const TriData& input, const TriData& start, const Embree
 // interpolation, collapses until the halting of `params`, final checks.
 QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
-                                const QuadSimplifyParams& params, Progress prog, const std::vector<Quad>* initialQuads) {
+                                const QuadSimplifyParams& params, Progress prog, const std::vector<Quad>* initialQuads,
+                                LayoutGate* gate = nullptr, bool* cancelled = nullptr, double* gateWait = nullptr) {
   QuadSimplifyResult res;
   const auto t0 = Clock::now();
   const int nv = int(input.V.size());
@@ -896,7 +948,14 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
     res.message = "mesh too small to simplify (" + std::to_string(sim.K.NumFaces()) + " quads): returning its pure-quad mesh";
   } else {
     Progress sub = prog.Sub(10, 95);
-    if (!sim.Run(sub)) return res;
+    sim.gate = gate;
+    const bool ok = sim.Run(sub);
+    if (gateWait) *gateWait = sim.gateWait;
+    if (sim.cancelled) {
+      if (cancelled) *cancelled = true;
+      return res;
+    }
+    if (!ok) return res;
     if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
   }
   prog(96, "Quad simplification: final checks", true);
@@ -1127,16 +1186,78 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   DecimateResult coarse;
   const bool decimate = !(initialQuads && !initialQuads->empty()) && params.countFaces > 0 &&
                         int(start.F.size()) > params.countFaces + params.countFaces / 4;
-  if (decimate) {
+  QuadSimplifyParams cp = params;
+  cp.layout = QuadSimplifyParams::Layout::PaperHalting;
+  QuadSimplifyResult c;
+  bool counted = false;        // c holds the count pass on `coarse` (or its error)
+  double countOverlap = 0;     // seconds of the count pass hidden behind the layout pass
+  // The two passes overlap (docs/quad.md "Layout"): the layout pass needs the count only at its
+  // end, so with a coarse count start and two threads the count pass (decimation included) runs
+  // on a second thread with serial checks while the layout pass runs here, going on down to the
+  // largest count that needs no recount (countFaces / 16) and waiting there for the count. A
+  // count that needs a recount (or an error) cancels it; then all runs in sequence as before.
+  // The cages are the same as in sequence (no step depends on the threads).
+  int threads = 1;
+#ifdef _OPENMP
+  threads = omp_get_max_threads();
+#endif
+  if (decimate && threads >= 2 && params.parallelChecks != QuadSimplifyParams::ParallelChecks::Never) {
+    LayoutGate gate(std::max(1, params.countFaces / 16));
+    double countWall = 0;
+    std::thread worker([&] {
+      const auto w0 = Clock::now();
+      int target = -1;
+      try {
+        WorkingResolutionParams wp;
+        wp.maxFaces = params.countFaces;
+        coarse = WorkingResolution(start, wp);
+        QuadSimplifyParams wcp = cp;
+        wcp.parallelChecks = QuadSimplifyParams::ParallelChecks::Never;
+        if (coarse.decimated) {
+          c = SimplifyOnce(input, coarse.mesh, scene, S, M, wcp, Progress(nullptr), initialQuads);
+          counted = true;
+          // (a count above the floor would find the layout pass below it: cancelled, as a recount)
+          if (c.error.empty() && 16L * c.patches <= long(coarse.mesh.F.size()) && c.patches <= gate.Floor())
+            target = std::max(1, c.patches);
+        }
+      } catch (const std::exception& e) {
+        c = QuadSimplifyResult();
+        c.error = std::string("count pass: ") + e.what();
+        counted = true;
+      }
+      countWall = Since(w0);
+      gate.Set(target);
+    });
+    bool cancelled = false;
+    double gateWait = 0;
+    try {
+      res = SimplifyOnce(input, start, scene, S, M, layoutParams(0), prog.Sub(0, 100), initialQuads, &gate, &cancelled,
+                         &gateWait);
+    } catch (...) {
+      worker.join();  // it never waits for this thread
+      throw;
+    }
+    const auto j0 = Clock::now();
+    worker.join();
+    const double joinWait = Since(j0);
+    if (counted && !c.error.empty()) return c;
+    if (!cancelled && res.error.empty()) {
+      res.secondsSimplify -= gateWait;  // the wait inside the layout pass is the count's
+      res.secondsTotal -= gateWait;
+      countOverlap = std::max(0.0, countWall - gateWait - joinWait);
+    }
+    if (cancelled) res = QuadSimplifyResult();  // laid out again below, after the recount
+    if (!res.error.empty()) return res;
+  } else if (decimate) {
     WorkingResolutionParams wp;
     wp.maxFaces = params.countFaces;
     coarse = WorkingResolution(start, wp);
   }
   const TriData& countStart = decimate && coarse.decimated ? coarse.mesh : start;
-  QuadSimplifyParams cp = params;
-  cp.layout = QuadSimplifyParams::Layout::PaperHalting;
-  QuadSimplifyResult c = SimplifyOnce(input, countStart, scene, S, M, cp, prog.Sub(0, 30), initialQuads);
-  if (!c.error.empty()) return c;
+  if (!counted) {
+    c = SimplifyOnce(input, countStart, scene, S, M, cp, prog.Sub(0, 30), initialQuads);
+    if (!c.error.empty()) return c;
+  }
   // A count above 1/16 of the coarse start's triangles (its quads reduced less than 8x) is bounded
   // by that start's resolution: count again on the real start mesh.
   const bool recount = &countStart != &start && 16L * c.patches > long(countStart.F.size());
@@ -1144,7 +1265,8 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     c = SimplifyOnce(input, start, scene, S, M, cp, prog.Sub(0, 30), initialQuads);
     if (!c.error.empty()) return c;
   }
-  res = SimplifyOnce(input, start, scene, S, M, layoutParams(std::max(1, c.patches)), prog.Sub(30, 100), initialQuads);
+  if (res.patches == 0)  // not laid out beside the count
+    res = SimplifyOnce(input, start, scene, S, M, layoutParams(std::max(1, c.patches)), prog.Sub(30, 100), initialQuads);
   if (!res.error.empty()) return res;
   // When the count pass ran on the real start mesh it is the paper's own result: keep whichever
   // of the two cages' interpolating limits follows the input more closely (docs/quad.md "Layout").
@@ -1172,6 +1294,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   res.countStartFaces = int((recount ? start : countStart).F.size());
   res.rejectedByM = c.rejectedByM;
   res.secondsCount = std::chrono::duration<double>(Clock::now() - t0).count() - res.secondsTotal;
+  res.secondsCountOverlapped = countOverlap;
   res.secondsTotal += res.secondsCount;
   return guard(std::move(res));
 }

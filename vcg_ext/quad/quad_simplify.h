@@ -145,7 +145,10 @@ struct QuadSimplifyResult {
   int patches = 0;
   int countPatches = 0;            ///< Layout::Equalized: the paper's halting count (0: no count pass)
   int countStartFaces = 0;         ///< Layout::Equalized: triangles of the count pass's start mesh
-  double secondsCount = 0;         ///< Layout::Equalized: wall time of the count pass (in secondsTotal)
+  double secondsCount = 0;         ///< Layout::Equalized: wall time the count pass added (in secondsTotal)
+  /// Layout::Equalized: seconds of the count pass that ran beside the layout pass on a second
+  /// thread (not in secondsTotal; its whole time is secondsCount + this)
+  double secondsCountOverlapped = 0;
   /// Layout::Equalized when the count pass ran on the start mesh itself (small start meshes, or a
   /// count too high for the coarse one): that pass is the paper's own result, and the cage kept is
   /// the one whose interpolating limit is closer to the input (RMS, absolute; 0 = not compared).
