@@ -4,7 +4,7 @@
 //
 // Usage: bench_quad [MESH] [--runs N] [--tau PCT[,PCT...]] [--threads T] [--standin] [--target N]
 //                   [--obj PREFIX]
-//                   [--rh PCT] [--mcap PCT] [--mscale X] [--no-m] [--no-fit]
+//                   [--rh PCT] [--mcap PCT] [--valence W] [--mscale X] [--no-m] [--no-fit]
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else /tmp/cgal/data/meshes/bunny00.off).
 //   --tau: tau values in percent (default 1,10); Fitmaps from vcgext::ComputeFitmaps (Fast mode).
 //   --no-area: the coverage guard's area trigger off (QuadSimplifyParams::coverageUnprojectablePct = 0).
@@ -12,6 +12,7 @@
 //   --target N: stop at N patches; --no-m: no M-fitmap test (with --target: a fixed budget).
 //   --rh PCT: the Fitmaps' largest radius r_h, % of the bbox diagonal (default 25, the paper's).
 //   --mcap PCT: clamp the M-fitmap to PCT % of the bbox diagonal (a patch-size cap, experiments).
+//   --valence W: QuadSimplifyParams::valenceWeight (collapse cost x (1 + W)^(valence defect change)).
 //   --mscale X: multiply the M-fitmap by X (emulates a coarser M-fitmap scale, e.g. earlier Fitmaps).
 //   --dev F: QuadSimplifyParams::deviationFactor (geometric guard, fraction of F_M; 0 = off);
 //   --devcap PCT: QuadSimplifyParams::maxDeviationPercent.
@@ -145,7 +146,7 @@ int main(int argc, char** argv) {
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
   int runs = 3, threads = 2, target = 0;
   bool standin = false, finalFit = true, useM = true, noArea = false;
-  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, mcap = -1;
+  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, mcap = -1, valenceWeight = -1;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
   for (int i = 1; i < argc; ++i) {
@@ -162,6 +163,7 @@ int main(int argc, char** argv) {
     else if (a == "--mscale" && i + 1 < argc) mscale = std::atof(argv[++i]);
     else if (a == "--rh" && i + 1 < argc) rh = std::atof(argv[++i]);
     else if (a == "--mcap" && i + 1 < argc) mcap = std::atof(argv[++i]);
+    else if (a == "--valence" && i + 1 < argc) valenceWeight = std::atof(argv[++i]);
     else if (a == "--ray" && i + 1 < argc) rayPct = std::atof(argv[++i]);
     else if (a == "--obj" && i + 1 < argc) objPrefix = argv[++i];
     else if (a == "--dump-unreached" && i + 1 < argc) dumpUnreached = argv[++i];
@@ -222,6 +224,7 @@ int main(int argc, char** argv) {
     p.useMFitmap = useM;
     if (dev >= 0) p.deviationFactor = dev;
     if (devcap >= 0) p.maxDeviationPercent = devcap;
+    if (valenceWeight >= 0) p.valenceWeight = valenceWeight;
     std::vector<double> tq, tinit, tsimp, ttot, tcpu;
     vcgext::QuadSimplifyResult r;
     for (int run = 0; run < runs; ++run) {

@@ -402,7 +402,20 @@ class Simplifier {
     int a = K.F[f][k], c = K.F[f][k + 2];
     if (K.IsBoundary(a) && K.IsBoundary(c)) return -1;
     double d = (Lim(a) - Lim(c)).norm();
-    return d * (fi.S + 1e-9 / std::max(diag_, 1e-300));
+    double cost = d * (fi.S + 1e-9 / std::max(diag_, 1e-300));
+    if (p_.valenceWeight > 0) cost *= std::pow(1.0 + p_.valenceWeight, ValenceDefectChange(f, k));
+    return cost;
+  }
+  // Change of the summed valence defect of face f's corners when its diagonal k collapses: the
+  // merged corner gets both corners' faces less the two copies of f, the other two lose f.
+  int ValenceDefectChange(int f, int k) const {
+    const int a = K.F[f][k], b = K.F[f][k + 1], c = K.F[f][k + 2], d = K.F[f][(k + 3) & 3];
+    auto defect = [&](int v, int faces) { return std::abs(faces - (K.IsBoundary(v) ? 2 : 4)); };
+    auto val = [&](int v) { return int(K.VF(v).size()); };
+    const int merged = K.IsBoundary(a) ? a : c;
+    const int before = defect(a, val(a)) + defect(b, val(b)) + defect(c, val(c)) + defect(d, val(d));
+    const int after = defect(merged, val(a) + val(c) - 2) + defect(b, val(b) - 1) + defect(d, val(d) - 1);
+    return after - before;
   }
 
   // One heap entry per face: its cheaper diagonal (the other one is queued only if the cheaper
@@ -1116,6 +1129,13 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   res.error = CheckInputs(input, start, scene, S, M, startMesh && initialQuads && !initialQuads->empty());
   if (!res.error.empty()) return res;
   Progress prog(cb);
+  // the valence term is the layout pass's: the paper's halting (its own mode and the count pass)
+  // keeps the paper's cost (docs/quad.md "Regularity")
+  if (params.layout == QuadSimplifyParams::Layout::PaperHalting && params.valenceWeight != 0) {
+    QuadSimplifyParams paper = params;
+    paper.valenceWeight = 0;
+    return SimplifyToQuads(input, scene, S, M, paper, cb, initialQuads, startMesh);
+  }
   // The layout pass: S-cost order without the M test, down to `patches`.
   auto layoutParams = [&params](int patches) {
     QuadSimplifyParams lp = params;
@@ -1188,6 +1208,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
                         int(start.F.size()) > params.countFaces + params.countFaces / 4;
   QuadSimplifyParams cp = params;
   cp.layout = QuadSimplifyParams::Layout::PaperHalting;
+  cp.valenceWeight = 0;  // the paper's count
   QuadSimplifyResult c;
   bool counted = false;        // c holds the count pass on `coarse` (or its error)
   double countOverlap = 0;     // seconds of the count pass hidden behind the layout pass
