@@ -737,7 +737,15 @@ class Simplifier {
       int r = Step(e.f, e.k());
       ++steps;
       parallelSteps += checkThreads_ > 1 ? 1 : 0;
-      if (++blockSteps >= mode.BlockSteps()) {
+      if (gate && gate->Target() == 0) {
+        // the count pass holds the other core: serial checks, and no block is measured (a block
+        // timed now would tell AdaptiveParallelism nothing about the time after the count)
+        blockStart = std::chrono::steady_clock::now();
+        workUnits_ = 0;
+        blockSteps = 0;
+      } else if (checkThreads_ == 1 && gate && mode.Parallel() && p_.parallelChecks != PC::Never) {
+        checkThreads_ = threadsFor(true);  // the count just ended: back to the mode's choice
+      } else if (++blockSteps >= mode.BlockSteps()) {
         const auto now = std::chrono::steady_clock::now();
         checkThreads_ = threadsFor(
             mode.EndBlock(std::chrono::duration<double>(now - blockStart).count() / std::max<long>(1, workUnits_)));
