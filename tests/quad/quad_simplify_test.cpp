@@ -387,6 +387,18 @@ double RmsLimitDistance(const vcgext::QuadSimplifyResult& r, const vcgext::Embre
 }
 }  // namespace
 
+namespace {
+// An ellipsoid 1 x 0.5 x 0.3 (icosphere level 5: 20480 triangles), S from curvature, M loose on
+// the x > 0 half (0.6) and tight on the other (0.12).
+vcgext::TriData HalfLooseEllipsoid(std::vector<double>& S, std::vector<double>& M) {
+  auto t = testsupport::Icosphere(5);
+  for (auto& v : t.V) v = Vec3(v[0], 0.5 * v[1], 0.3 * v[2]);
+  SyntheticFitmaps(t, S, M);
+  for (size_t i = 0; i < t.V.size(); ++i) M[i] = t.V[i][0] > 0 ? 0.6 : 0.12;
+  return t;
+}
+}  // namespace
+
 // Layout::Equalized (docs/quad.md "Layout"): the paper's halting decides the count on a coarse
 // start mesh, the layout is the S cost's. An ellipsoid whose M-fitmap is loose on one half
 // (x > 0) and tight on the other: the paper's halting puts huge patches on the loose half and
@@ -394,12 +406,9 @@ double RmsLimitDistance(const vcgext::QuadSimplifyResult& r, const vcgext::Embre
 // curvature (S) and follows the shape more closely. Also: the count pass really ran on a coarser
 // start mesh, and the layout pass reached the count.
 TEST(QuadSimplify, EqualizedLayoutSpendsThePaperCountByTheSFitmap) {
-  auto t = testsupport::Icosphere(5);  // 20480 triangles
-  for (auto& v : t.V) v = Vec3(v[0], 0.5 * v[1], 0.3 * v[2]);
-  vcgext::EmbreeScene scene(t);
   std::vector<double> S, M;
-  SyntheticFitmaps(t, S, M);
-  for (size_t i = 0; i < t.V.size(); ++i) M[i] = t.V[i][0] > 0 ? 0.6 : 0.12;
+  const auto t = HalfLooseEllipsoid(S, M);
+  vcgext::EmbreeScene scene(t);
   vcgext::QuadSimplifyParams paper, equalized;
   paper.layout = vcgext::QuadSimplifyParams::Layout::PaperHalting;
   equalized.countFaces = 5000;
@@ -431,12 +440,9 @@ TEST(QuadSimplify, CountPassBesideTheLayoutPassGivesTheSequentialCage) {
 #ifdef _OPENMP
   if (omp_get_max_threads() < 2) GTEST_SKIP() << "one thread: no second thread for the count pass";
 #endif
-  auto t = testsupport::Icosphere(5);  // 20480 triangles
-  for (auto& v : t.V) v = Vec3(v[0], 0.5 * v[1], 0.3 * v[2]);
-  vcgext::EmbreeScene scene(t);
   std::vector<double> S, M;
-  SyntheticFitmaps(t, S, M);
-  for (size_t i = 0; i < t.V.size(); ++i) M[i] = t.V[i][0] > 0 ? 0.6 : 0.12;
+  const auto t = HalfLooseEllipsoid(S, M);
+  vcgext::EmbreeScene scene(t);
   // countFaces 5000: the count (~100 patches) is below the floor 312; 1200: floor 75, the count
   // is above 1200 / 16 = 75, so the coarse count asks for a recount
   for (int countFaces : {5000, 1200}) {
