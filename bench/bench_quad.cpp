@@ -249,6 +249,9 @@ int main(int argc, char** argv) {
                 standin ? "" : (", " + std::to_string(tFit).substr(0, 5) + " s").c_str());
     std::printf("  tri-to-quad      %s, %d initial quads\n", vcgext::quad::ToString(r.triToQuadPath), r.initialPatches);
     std::printf("  patches          %d\n", r.patches);
+    if (r.budgetRelaxations > 0)
+      std::printf("  budget           first pass %d patches; thin-part guard relaxed %d time(s), factor %.3g (0: off)\n",
+                  r.budgetFromPatches, r.budgetRelaxations, r.budgetDeviationFactor);
     std::printf("  irregular        %d of %zu vertices\n", r.irregularVertices, r.quads.V.size());
     std::printf("  valences        ");
     for (size_t v = 0; v < r.valenceHistogram.size(); ++v)

@@ -164,6 +164,18 @@ bool ApplyQuad(GlueContext& ctx) {
       << r.secondsInitialFit << " s, simplification " << r.secondsSimplify << " s, total "
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s";
   ctx.log(log.str());
+  if (r.budgetRelaxations > 0) {
+    std::ostringstream b;
+    b << "Fitmap Quad Simplification: the thin-part guard stopped the budget of " << p.targetPatches
+      << " patches at " << r.budgetFromPatches << "; laid out again with its tolerance doubled ("
+      << r.budgetDeviationFactor << " x the M-fitmap): " << r.patches << " patches";
+    ctx.log(b.str());
+  }
+  if (p.targetPatches > 0 && r.patches > p.targetPatches + p.targetPatches / 50)
+    ctx.log("Warning: Fitmap Quad Simplification: the budget of " + std::to_string(p.targetPatches) +
+            " patches was not reached: " + std::to_string(r.patches) +
+            " patches: no collapse left that the checks allow (M-fitmap, thin-part guard, topology, flips)");
+  ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("patches", r.patches);
   ctx.Value("irregular_vertices", r.irregularVertices);
   ctx.Value("initial_patches", r.initialPatches);

@@ -866,3 +866,42 @@ TEST(QuadSimplify, ValenceTermKeepsATorusCageNearlyRegular) {
   EXPECT_EQ(pw.quads.F, p0.quads.F);
   EXPECT_EQ(pw.quads.V, p0.quads.V);
 }
+
+// A budget the thin-part guard stops above is laid out once more with the guard's tolerance
+// doubled, kept when closer to the budget (issue 13: `--patches N` reaches N). The cigar of
+// ThinPartGuardKeepsTheLimitOnAThinShape with a 12-patch budget: the guard alone stops above it;
+// the kept cage meets the budget, says how (relaxations, factor, where the first pass stopped),
+// and is the plain run's with that factor bit for bit. A budget the first pass reaches is
+// untouched.
+TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardIsReachedWithALooserGuard) {
+  auto t = testsupport::Icosphere(4);
+  for (auto& v : t.V) v = Vec3(v[0], 0.08 * v[1], 0.08 * v[2]);
+  vcgext::EmbreeScene scene(t);
+  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.2);
+  vcgext::QuadSimplifyParams p;
+  p.targetPatches = 12;
+  p.useMFitmap = false;
+  auto r = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  ASSERT_EQ(r.error, "");
+  vcgext::quad::QuadMesh q(r.quads.V, r.quads.F);
+  EXPECT_EQ(q.Check(), "");
+  std::printf("cigar, budget 12: first pass %d patches; %d relaxation(s), guard factor %.2f: %d patches\n",
+              r.budgetFromPatches, r.budgetRelaxations, r.budgetDeviationFactor, r.patches);
+  EXPECT_GT(r.budgetFromPatches, 12);
+  EXPECT_EQ(r.budgetRelaxations, 1);
+  EXPECT_LT(std::abs(r.patches - 12), std::abs(r.budgetFromPatches - 12));
+  EXPECT_EQ(r.budgetDeviationFactor, 2 * p.deviationFactor);
+  auto same = p;
+  same.deviationFactor = r.budgetDeviationFactor;
+  auto rs = vcgext::SimplifyToQuads(t, scene, S, M, same);
+  EXPECT_EQ(rs.budgetRelaxations, 0);
+  EXPECT_EQ(rs.quads.F, r.quads.F);
+  EXPECT_EQ(rs.quads.V, r.quads.V);
+  // reached at once: no relaxation
+  auto easy = p;
+  easy.targetPatches = 60;
+  auto re = vcgext::SimplifyToQuads(t, scene, S, M, easy);
+  EXPECT_EQ(re.budgetRelaxations, 0);
+  EXPECT_EQ(re.budgetDeviationFactor, -1.0);
+  EXPECT_LE(re.patches, 60);
+}

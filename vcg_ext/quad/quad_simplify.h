@@ -171,6 +171,12 @@ struct QuadSimplifyResult {
   double coverageFromRms = 0;
   double coverageFromUnprojectablePct = 0;  ///< that cage's unprojectable share (%)
   double layoutUnprojectablePct = -1;       ///< the kept cage's (guard on; -1: not measured)
+  /// Budget (targetPatches) the thin-part guard stopped above: 1 when the cage kept is a second
+  /// layout pass with the guard's tolerance doubled (its deviationFactor here), and the patches
+  /// the first pass stopped at. 0 / -1 / 0: the first pass's cage.
+  int budgetRelaxations = 0;
+  double budgetDeviationFactor = -1;
+  int budgetFromPatches = 0;
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
