@@ -1296,13 +1296,16 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     worker.join();
     const double joinWait = Since(j0);
     if (counted && !c.error.empty()) return c;
-    if (!cancelled && res.error.empty()) {
+    if (!res.error.empty()) return res;
+    if (!cancelled && gate.Target() > 0) {
       res.secondsSimplify -= gateWait;  // the wait inside the layout pass is the count's
       res.secondsTotal -= gateWait;
       countOverlap = std::max(0.0, countWall - gateWait - joinWait);
+    } else {
+      // laid out again below, after the recount; also when the layout pass ended (no collapse
+      // left) before the cancellation reached it: the recount may stop above where it ended
+      res = QuadSimplifyResult();
     }
-    if (cancelled) res = QuadSimplifyResult();  // laid out again below, after the recount
-    if (!res.error.empty()) return res;
   } else if (decimate) {
     WorkingResolutionParams wp;
     wp.maxFaces = params.countFaces;
