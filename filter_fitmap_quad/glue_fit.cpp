@@ -85,7 +85,7 @@ bool ApplyFit(GlueContext& ctx) {
   std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
   if (!err.empty()) return ctx.Fail(err);
   // the control points as MeshLab 2020.09's float layer holds them (input_prep.h, CoordinatePrecision)
-  if (vcgext::InputCoordinatePrecision() == vcgext::CoordinatePrecision::Float) vcgext::RoundCoordinatesToFloat(quads.V);
+  vcgext::ApplyInputCoordinatePrecision(quads.V);
   if (ambiguous > 0)
     ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
             " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");

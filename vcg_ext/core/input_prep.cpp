@@ -272,6 +272,10 @@ bool RoundCoordinatesToFloat(std::vector<Vec3>& V) {
   return true;
 }
 
+void ApplyInputCoordinatePrecision(std::vector<Vec3>& V) {
+  if (InputCoordinatePrecision() == CoordinatePrecision::Float) RoundCoordinatesToFloat(V);
+}
+
 WorkingCopy PrepareWorkingCopy(const TriData& raw) {
   if (raw.F.size() < kMemoMinFaces) return PrepareUncached(raw);
   const std::uint64_t key = HashArrays(raw);

@@ -96,10 +96,14 @@ CoordinatePrecision InputCoordinatePrecision();
 /// Rounds the coordinates `V` to float if that moves none by more than 2^-24 |x| <= 1e-6 of the
 /// bbox diagonal (see CoordinatePrecision); returns whether it did.
 bool RoundCoordinatesToFloat(std::vector<Vec3>& V);
+/// RoundCoordinatesToFloat under CoordinatePrecision::Float, nothing under AsGiven: what every
+/// reader of a layer's coordinates (the working copy, the fit's control layer) applies.
+void ApplyInputCoordinatePrecision(std::vector<Vec3>& V);
 
 /// Reads a vcg layer (polygonal layers as their triangles: faux edges are only flags) and
-/// prepares its working copy (coordinates rounded to float under CoordinatePrecision::Float). Errors of ImportTriangles (empty, point cloud, NaN/Inf, face
-/// indices out of range) come through `error`.
+/// prepares its working copy (coordinates as ApplyInputCoordinatePrecision leaves them). Errors
+/// of ImportTriangles (empty, point cloud, NaN/Inf, face indices out of range) come through
+/// `error`.
 template <class MeshType>
 WorkingCopy PrepareWorkingCopy(const MeshType& m) {
   TriData raw;
@@ -109,7 +113,7 @@ WorkingCopy PrepareWorkingCopy(const MeshType& m) {
     w.error = rep.error;
     return w;
   }
-  if (InputCoordinatePrecision() == CoordinatePrecision::Float) RoundCoordinatesToFloat(raw.V);
+  ApplyInputCoordinatePrecision(raw.V);
   return PrepareWorkingCopy(raw);
 }
 

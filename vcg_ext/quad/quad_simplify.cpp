@@ -1132,11 +1132,6 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
                                    vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
                                    const TriData* startMesh) {
-  const TriData& start = startMesh ? *startMesh : input;
-  QuadSimplifyResult res;
-  res.error = CheckInputs(input, start, scene, S, M, startMesh && initialQuads && !initialQuads->empty());
-  if (!res.error.empty()) return res;
-  Progress prog(cb);
   // the valence term is the layout pass's: the paper's halting (its own mode and the count pass)
   // keeps the paper's cost (docs/quad.md "Regularity")
   if (params.layout == QuadSimplifyParams::Layout::PaperHalting && params.valenceWeight != 0) {
@@ -1144,6 +1139,11 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     paper.valenceWeight = 0;
     return SimplifyToQuads(input, scene, S, M, paper, cb, initialQuads, startMesh);
   }
+  const TriData& start = startMesh ? *startMesh : input;
+  QuadSimplifyResult res;
+  res.error = CheckInputs(input, start, scene, S, M, startMesh && initialQuads && !initialQuads->empty());
+  if (!res.error.empty()) return res;
+  Progress prog(cb);
   // The layout pass: S-cost order without the M test, down to `patches`.
   auto layoutParams = [&params](int patches) {
     QuadSimplifyParams lp = params;
@@ -1211,26 +1211,22 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     // elephant reached 200 patches with 10 % of its area unprojectable (the limit leaves its legs).
     const int target = params.targetPatches;
     QuadSimplifyResult r = SimplifyOnce(input, start, scene, S, M, layoutParams(target), prog, initialQuads);
-    double dev = params.deviationFactor;
-    for (int k = 0; k < 1 && r.error.empty() && r.patches > target + target / 50 && dev > 0; ++k) {
-      dev *= 2;
-      QuadSimplifyParams lp = layoutParams(target);
-      lp.deviationFactor = dev;
-      QuadSimplifyResult g = SimplifyOnce(input, start, scene, S, M, lp, prog.Sub(90, 100), initialQuads);
-      if (!g.error.empty()) break;
-      // kept when closer to the budget (a collapse on a thin tube can cascade through the doublets
-      // it leaves and land far below it)
-      if (!(std::abs(g.patches - target) < std::abs(r.patches - target))) {
-        r.secondsTotal += g.secondsTotal;
-        continue;
-      }
-      g.budgetRelaxations = k + 1;
-      g.budgetDeviationFactor = dev;
-      g.budgetFromPatches = r.budgetRelaxations ? r.budgetFromPatches : r.patches;
-      g.secondsTotal += r.secondsTotal;
-      r = std::move(g);
+    if (!r.error.empty() || r.patches <= target + target / 50 || !(params.deviationFactor > 0)) return r;
+    QuadSimplifyParams lp = layoutParams(target);
+    lp.deviationFactor = 2 * params.deviationFactor;
+    QuadSimplifyResult g = SimplifyOnce(input, start, scene, S, M, lp, prog.Sub(90, 100), initialQuads);
+    if (!g.error.empty()) return r;
+    // kept when closer to the budget (a collapse on a thin tube can cascade through the doublets
+    // it leaves and land far below it)
+    if (!(std::abs(g.patches - target) < std::abs(r.patches - target))) {
+      r.secondsTotal += g.secondsTotal;
+      return r;
     }
-    return r;
+    g.budgetRelaxations = 1;
+    g.budgetDeviationFactor = lp.deviationFactor;
+    g.budgetFromPatches = r.patches;
+    g.secondsTotal += r.secondsTotal;
+    return g;
   }
   if (!equalized || !params.useMFitmap) return SimplifyOnce(input, start, scene, S, M, params, prog, initialQuads);
 
@@ -1240,6 +1236,11 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   DecimateResult coarse;
   const bool decimate = !(initialQuads && !initialQuads->empty()) && params.countFaces > 0 &&
                         int(start.F.size()) > params.countFaces + params.countFaces / 4;
+  auto decimateCountStart = [&] {
+    WorkingResolutionParams wp;
+    wp.maxFaces = params.countFaces;
+    coarse = WorkingResolution(start, wp);
+  };
   QuadSimplifyParams cp = params;
   cp.layout = QuadSimplifyParams::Layout::PaperHalting;
   cp.valenceWeight = 0;  // the paper's count
@@ -1263,9 +1264,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
       const auto w0 = Clock::now();
       int target = -1;
       try {
-        WorkingResolutionParams wp;
-        wp.maxFaces = params.countFaces;
-        coarse = WorkingResolution(start, wp);
+        decimateCountStart();
         QuadSimplifyParams wcp = cp;
         wcp.parallelChecks = QuadSimplifyParams::ParallelChecks::Never;
         if (coarse.decimated) {
@@ -1307,9 +1306,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
       res = QuadSimplifyResult();
     }
   } else if (decimate) {
-    WorkingResolutionParams wp;
-    wp.maxFaces = params.countFaces;
-    coarse = WorkingResolution(start, wp);
+    decimateCountStart();
   }
   const TriData& countStart = decimate && coarse.decimated ? coarse.mesh : start;
   if (!counted) {
