@@ -51,7 +51,7 @@ run_baseline() {  # mesh faces run [label]
   local t0 t1
   t0=$(date +%s.%N)
   "$REPO/scripts/meshlabserver.sh" -i "$mesh" -i "$mesh" -o "$out/control.ply" -l 1 -m ff -s "$out/baseline.mlx" \
-    > "$out.log" 2>&1 || { echo "baseline failed on $mesh ($faces faces): $(grep -m1 'Error:' "$out.log")" >&2; return 1; }
+    > "$out.log" 2>&1 || { echo "baseline failed on $mesh ($faces faces): $(grep -m1 'Error:' "$out.log" || tail -1 "$out.log")" >&2; return 1; }
   t1=$(date +%s.%N)
   printf '%s\t%s\t%s\t%s\t%s\n' "$(basename "$mesh")" "$label" "$run" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{print b-a}')" "$out/report.json" >> "$results"
 }
