@@ -1027,25 +1027,27 @@ double UnreachedPercent(const TriData& input, const TriData& tess, const std::ve
       const auto& f = input.F[size_t(s) * stride];
       const Vec3 &a = input.V[f[0]], &b = input.V[f[1]], &c = input.V[f[2]];
       total[s] = 0.5 * (b - a).cross(c - a).norm();
-      // sub-triangle centroids in barycentric steps of 1/L: (i + 1/3, j + 1/3) and (i + 2/3, j + 2/3)
-      int samples = 0, out = 0;
-      for (int i = 0; i < L; ++i)
-        for (int j = 0; i + j < L; ++j)
-          for (int up = 0; up < (i + j + 1 < L ? 2 : 1); ++up) {
-            const double u = (i + (up ? 2.0 : 1.0) / 3) / L, v = (j + (up ? 2.0 : 1.0) / 3) / L;
-            const Vec3 x = a + u * (b - a) + v * (c - a);
-            ++samples;
-            const EmbreeScene::Hit h = lim.ClosestPoint(x, std::numeric_limits<double>::infinity(), hint);
-            if (!h.valid) { ++out; continue; }
-            hint = h.face;
-            if (!rimFacet[h.face]) continue;  // inside the limit's outline: its normal line reaches x
-            const auto& g = tess.F[h.face];
-            Vec3 nrm = (1 - h.u - h.v) * normal[g[0]] + h.u * normal[g[1]] + h.v * normal[g[2]];
-            if (nrm.norm() > 0) nrm.normalize();
-            const Vec3 d = x - h.point;
-            if ((d - d.dot(nrm) * nrm).norm() > std::max(tol, 0.2 * d.norm())) ++out;
-          }
-      if (out == samples) missed[s] = total[s];  // the report's semantics: reached if any part is
+      // sub-triangle centroids in barycentric steps of 1/L: (i + 1/3, j + 1/3) and (i + 2/3, j + 2/3);
+      // the report's semantics: the triangle is reached if any part is, so the first reached
+      // sample ends its test
+      auto reachedAt = [&](double u, double v) {
+        const Vec3 x = a + u * (b - a) + v * (c - a);
+        const EmbreeScene::Hit h = lim.ClosestPoint(x, std::numeric_limits<double>::infinity(), hint);
+        if (!h.valid) return false;
+        hint = h.face;
+        if (!rimFacet[h.face]) return true;  // inside the limit's outline: its normal line reaches x
+        const auto& g = tess.F[h.face];
+        Vec3 nrm = (1 - h.u - h.v) * normal[g[0]] + h.u * normal[g[1]] + h.v * normal[g[2]];
+        if (nrm.norm() > 0) nrm.normalize();
+        const Vec3 d = x - h.point;
+        return (d - d.dot(nrm) * nrm).norm() <= std::max(tol, 0.2 * d.norm());
+      };
+      bool reached = false;
+      for (int i = 0; i < L && !reached; ++i)
+        for (int j = 0; i + j < L && !reached; ++j)
+          for (int up = 0; up < (i + j + 1 < L ? 2 : 1) && !reached; ++up)
+            reached = reachedAt((i + (up ? 2.0 : 1.0) / 3) / L, (j + (up ? 2.0 : 1.0) / 3) / L);
+      if (!reached) missed[s] = total[s];
     }
   }
   double t = 0, mi = 0;
