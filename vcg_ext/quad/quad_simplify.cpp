@@ -1132,8 +1132,9 @@ double InterpolationRms(const TriData& input, const QuadData& q) { return Interp
 // Whether the budget's relaxed cage g (the thin-part guard's tolerance doubled) covers the input
 // about as well as the first pass's r, which the guard stopped above the budget: no more flipped
 // patches and vertices, at most 0.1 % more of the input's area beyond its interpolating limit's
-// outline (issue 13's unprojectable target), and at most twice its interpolating limit's RMS
-// distance. cow.off at 400 patches: the first pass stopped at 421; the relaxed pass reached 392
+// outline (issue 13's unprojectable target), and an interpolating limit's RMS distance at most
+// twice the first pass's scaled by the patch ratio (the cigar of the tests halves its patches
+// legitimately). cow.off at 400 patches: the first pass stopped at 421; the relaxed pass reached 392
 // with 3.7 % of the area unprojectable and an RMS limit error of 22 per mille after the fit
 // (421: under 2). `why`: the reason when not.
 bool RelaxedCageCovers(const TriData& input, const QuadSimplifyResult& r, const QuadSimplifyResult& g,
@@ -1146,12 +1147,15 @@ bool RelaxedCageCovers(const TriData& input, const QuadSimplifyResult& r, const 
     return false;
   }
   const Coverage cr = InterpolationCoverage(input, r.quads, true), cg = InterpolationCoverage(input, g.quads, true);
-  if (cg.unreachedPct <= cr.unreachedPct + 0.1 && cg.rms <= 2 * cr.rms) return true;
+  // an interpolating limit's distance to a smooth surface goes as the patch size squared, i.e. as
+  // 1 / patches: the relaxed cage may be twice as far as its fewer patches explain
+  const double expected = cr.rms * double(r.patches) / double(std::max(1, g.patches));
+  if (cg.unreachedPct <= cr.unreachedPct + 0.1 && cg.rms <= 2 * expected) return true;
   const double diag = BBoxDiagonal(input.V);
   std::snprintf(buf, sizeof buf,
                 "its interpolating limit leaves %.2f %% of the input's area unreached (the first pass: %.2f %%), "
-                "RMS distance %.3g vs %.3g per mille",
-                cg.unreachedPct, cr.unreachedPct, 1000 * cg.rms / diag, 1000 * cr.rms / diag);
+                "RMS distance %.3g vs %.3g per mille (at most %.3g allowed)",
+                cg.unreachedPct, cr.unreachedPct, 1000 * cg.rms / diag, 1000 * cr.rms / diag, 2000 * expected / diag);
   *why = buf;
   return false;
 }
