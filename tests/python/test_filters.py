@@ -155,6 +155,7 @@ def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
     (lambda ms: ms.compute_scalar_by_fitmaps_per_vertex(numradii=1), "number of radii must be in [2, 64]"),
     (lambda ms: ms.generate_fitmap_quad_simplification(usemfitmap=False),
      "without the M-fitmap test a target patch count is needed (it would collapse everything)"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(regularity=-1), "the regularity weight must be in [0, 100]"),
     (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
      "the reference layer must be another layer than the control mesh (the current layer)"),
     (lambda ms: ms.apply_loop_surrogate_snap_points(surfacemesh=0),
@@ -210,6 +211,22 @@ def test_filters_return_their_figures(tmp_path):
               "rms_displaced_permille", "unprojectable_pct"]:
         assert r[k] == pytest.approx(rep[k], rel=1e-6, abs=1e-9), k
     assert r["warnings"] == len(rep["warnings"])
+
+
+def test_regularity_weight_gives_fewer_irregular_vertices_at_a_budget():
+    # the filter's "regularity" (QuadSimplifyParams::valenceWeight): at one budget the cage of an
+    # ellipsoid has fewer irregular vertices with it than without (the same as run_pipeline.sh
+    # --regularity; docs/quad.md "Regularity")
+    irregular = []
+    for w in (0.0, 1.0):
+        ms = pymeshlab.MeshSet()
+        m = icosphere(4)
+        V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
+        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+        q = ms.generate_fitmap_quad_simplification(targetpatches=150, regularity=w)
+        assert abs(q["patches"] - 150) <= 3
+        irregular.append(q["irregular_vertices"])
+    assert irregular[1] < irregular[0], irregular
 
 
 def test_renderer_grid_bakes_for_blender(tmp_path):
