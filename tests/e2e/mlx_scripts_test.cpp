@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
-#include <filesystem>
 #include <regex>
 #include <set>
 #include <sstream>

@@ -897,6 +897,11 @@ class Simplifier {
 
 namespace {
 
+// Adds a note to a result's message ("; "-separated).
+void AppendMessage(std::string& message, const std::string& note) {
+  message += (message.empty() ? "" : "; ") + note;
+}
+
 // What SimplifyToQuads refuses before any work (empty string: nothing).
 std::string CheckInputs(const TriData& input, const TriData& start, const EmbreeScene& scene, const std::vector<double>& S,
                         const std::vector<double>& M, bool startAndQuads) {
@@ -991,8 +996,7 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
     int fp = sim.CountFlipped(), fv = sim.CountFlippedVertices();
     if (fp + fv > res.flippedPatches + res.flippedVertices) {
       sim.K.P = before;
-      res.message += std::string(res.message.empty() ? "" : "; ") +
-                     "final re-interpolation skipped (it would flip patches)";
+      AppendMessage(res.message, "final re-interpolation skipped (it would flip patches)");
     } else {
       res.flippedPatches = fp;
       res.flippedVertices = fv;
@@ -1256,8 +1260,8 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     if (!(std::abs(g.patches - target) < std::abs(r.patches - target)) || !RelaxedCageCovers(input, r, g, &why)) {
       r.secondsTotal += g.secondsTotal;
       if (!why.empty())
-        r.message += std::string(r.message.empty() ? "" : "; ") + "a pass with the thin-part guard's tolerance " +
-                     "doubled reached " + std::to_string(g.patches) + " patches but was not kept: " + why;
+        AppendMessage(r.message, "a pass with the thin-part guard's tolerance doubled reached " +
+                                     std::to_string(g.patches) + " patches but was not kept: " + why);
       return r;
     }
     g.budgetRelaxations = 1;
