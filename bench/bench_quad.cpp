@@ -4,13 +4,15 @@
 //
 // Usage: bench_quad [MESH] [--runs N] [--tau PCT[,PCT...]] [--threads T] [--standin] [--target N]
 //                   [--obj PREFIX]
-//                   [--rh PCT] [--mcap PCT] [--valence W] [--mscale X] [--no-m] [--no-fit]
+//                   [--rh PCT] [--rmin PCT] [--nradii N] [--mcap PCT] [--valence W] [--mscale X] [--no-m] [--no-fit]
 //   MESH defaults to $FITMAP_DATA_DIR/bunny00.off (else /tmp/cgal/data/meshes/bunny00.off).
 //   --tau: tau values in percent (default 1,10); Fitmaps from vcgext::ComputeFitmaps (Fast mode).
 //   --no-area: the coverage guard's area trigger off (QuadSimplifyParams::coverageUnprojectablePct = 0).
 //   --no-fit: skip the §3.5 global fit (vcgext::FitCatmullClark) before the second projectability figure.
 //   --target N: stop at N patches; --no-m: no M-fitmap test (with --target: a fixed budget).
 //   --rh PCT: the Fitmaps' largest radius r_h, % of the bbox diagonal (default 25, the paper's).
+//   --rmin PCT: FitmapParams::minRadiusPercent (0 = the paper's radii from the average edge length);
+//   --nradii N: FitmapParams::numRadii (the paper's grid).
 //   --mcap PCT: clamp the M-fitmap to PCT % of the bbox diagonal (a patch-size cap, experiments).
 //   --valence W: QuadSimplifyParams::valenceWeight (collapse cost x (1 + W)^(valence defect change)).
 //   --mscale X: multiply the M-fitmap by X (emulates a coarser M-fitmap scale, e.g. earlier Fitmaps).
@@ -146,7 +148,7 @@ int main(int argc, char** argv) {
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
   int runs = 3, threads = 2, target = 0;
   bool standin = false, finalFit = true, useM = true, noArea = false;
-  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, mcap = -1, valenceWeight = -1;
+  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, rmin = -1, nradii = -1, mcap = -1, valenceWeight = -1;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
   for (int i = 1; i < argc; ++i) {
@@ -162,6 +164,8 @@ int main(int argc, char** argv) {
     else if (a == "--devcap" && i + 1 < argc) devcap = std::atof(argv[++i]);
     else if (a == "--mscale" && i + 1 < argc) mscale = std::atof(argv[++i]);
     else if (a == "--rh" && i + 1 < argc) rh = std::atof(argv[++i]);
+    else if (a == "--rmin" && i + 1 < argc) rmin = std::atof(argv[++i]);
+    else if (a == "--nradii" && i + 1 < argc) nradii = std::atoi(argv[++i]);
     else if (a == "--mcap" && i + 1 < argc) mcap = std::atof(argv[++i]);
     else if (a == "--valence" && i + 1 < argc) valenceWeight = std::atof(argv[++i]);
     else if (a == "--ray" && i + 1 < argc) rayPct = std::atof(argv[++i]);
@@ -199,6 +203,8 @@ int main(int argc, char** argv) {
       vcgext::FitmapParams fp;
       fp.tauPercent = tau;
       if (rh > 0) fp.maxRadiusPercent = rh;
+      if (rmin > 0) fp.minRadiusPercent = rmin;
+      if (nradii > 0) fp.numRadii = int(nradii);
       auto t0 = std::chrono::steady_clock::now();
       auto fr = vcgext::ComputeFitmaps(in, scene, fp);
       tFit = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

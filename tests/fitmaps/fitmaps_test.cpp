@@ -395,6 +395,45 @@ TEST(Fitmaps, FewRadiiAndExtremeRadiusWork) {
       }
 }
 
+TEST(Fitmaps, AnchoredRadiiDoNotDependOnTheEdgeLength) {
+  // The paper's grid: numRadii radii from r_0 to r_h, geometric (the formula the grid had before
+  // FitmapRadii).
+  FitmapParams p;
+  const double diag = 2.0, rh = 0.25 * diag;
+  for (double r0 : {0.01, 0.004}) {
+    const std::vector<double> paper = vcgext::FitmapRadii(r0, rh, diag, p);
+    ASSERT_EQ(paper.size(), 9u);
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(paper[i], r0 * std::pow(rh / r0, i / 8.0), 1e-12 * rh);
+  }
+  // Anchored at r_h with the fixed ratio: a mesh 4x denser (r_0 / 2) keeps every radius of the
+  // coarser one above its r_0, and with a floor above both r_0 the two grids are the same.
+  p.minRadiusPercent = 0.01;  // below both r_0: the grid goes down to r_0
+  const std::vector<double> coarse = vcgext::FitmapRadii(0.02, rh, diag, p);
+  const std::vector<double> dense = vcgext::FitmapRadii(0.01, rh, diag, p);
+  ASSERT_GE(coarse.size(), 2u);
+  ASSERT_GT(dense.size(), coarse.size());
+  const size_t extra = dense.size() - coarse.size();
+  for (size_t i = 0; i < coarse.size(); ++i) EXPECT_DOUBLE_EQ(dense[extra + i], coarse[i]);
+  EXPECT_GE(coarse.front(), 0.02 * (1 - 1e-9));
+  EXPECT_LT(coarse.front(), 0.02 * vcgext::kAnchoredRadiusRatio);
+  EXPECT_DOUBLE_EQ(coarse.back(), rh);
+  for (size_t i = 1; i < dense.size(); ++i) EXPECT_NEAR(dense[i] / dense[i - 1], vcgext::kAnchoredRadiusRatio, 1e-9);
+  p.minRadiusPercent = 2.0;  // 0.04, above both r_0
+  EXPECT_EQ(vcgext::FitmapRadii(0.02, rh, diag, p), vcgext::FitmapRadii(0.005, rh, diag, p));
+  EXPECT_GE(vcgext::FitmapRadii(0.005, rh, diag, p).front(), 0.04 * (1 - 1e-9));
+  // On a mesh: M takes one of the radii, and the floor is respected.
+  TriData m = testsupport::Icosphere(3, 1.0);
+  p = Mode(FitmapParams::Mode::Fast);
+  p.minRadiusPercent = 3.0;
+  FitmapResult r = RunFitmaps(m, p);
+  ExpectAllFinite(r, "anchored");
+  const double d = 2.0 * std::sqrt(3.0) * 1.0;  // bbox diagonal of the unit sphere (up to tessellation)
+  EXPECT_GE(r.radii.front(), 0.03 * d * 0.99);
+  for (double M : r.M) EXPECT_TRUE(std::find(r.radii.begin(), r.radii.end(), M) != r.radii.end());
+  p.minRadiusPercent = 30.0;  // above r_h: rejected
+  EXPECT_NE(RunFitmaps(m, p).error, "");
+}
+
 TEST(Fitmaps, InvalidInputIsReported) {
   TriData plane = testsupport::PlaneGrid(4, 4);
   vcgext::EmbreeScene scene(plane);

@@ -541,6 +541,9 @@ std::string CheckFitmapInputs(const TriData& input, const EmbreeScene& scene, co
   if (!(p.maxRadiusPercent > 0 && p.maxRadiusPercent <= 100)) {
     return "the largest radius must be in (0, 100] percent of the bbox diagonal";
   }
+  if (!(p.minRadiusPercent >= 0 && p.minRadiusPercent <= p.maxRadiusPercent)) {
+    return "the smallest radius must be in [0, largest radius] percent of the bbox diagonal";
+  }
   if (!(p.referenceSampleFactor > 0 && p.referenceSampleFactor <= 1e4)) {
     return "referenceSampleFactor must be in (0, 10000]";
   }
@@ -817,6 +820,20 @@ int FastValues(const Context& ctx, const FastPlan& plan, const std::vector<std::
 
 }  // namespace
 
+std::vector<double> FitmapRadii(double r0, double rh, double diag, const FitmapParams& p) {
+  std::vector<double> radii;
+  if (p.minRadiusPercent > 0) {
+    const double floor = std::max(r0, p.minRadiusPercent / 100.0 * diag) * (1 - 1e-9);
+    for (double r = rh; r >= floor && radii.size() < 64; r /= kAnchoredRadiusRatio) radii.push_back(r);
+    if (radii.empty()) radii.push_back(rh);
+    std::reverse(radii.begin(), radii.end());
+    return radii;
+  }
+  const int H = p.numRadii;
+  for (int i = 0; i < H; ++i) radii.push_back(H == 1 ? r0 : r0 * std::pow(rh / r0, double(i) / double(H - 1)));
+  return radii;
+}
+
 FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, const FitmapParams& p,
                             vcg::CallBackPos* cb) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -840,7 +857,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
     for (int& c : f) c = rank[c];
   const TriData& m = mm;
 
-  // ---- radii: r_0 = average edge length, r_h = maxRadiusPercent of the diagonal, geometric
+  // ---- radii: r_0 = average edge length, r_h = maxRadiusPercent of the diagonal (FitmapRadii)
   Context ctx;
   ctx.m = &m;
   ctx.orig = &order;
@@ -851,9 +868,8 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   const double diag = BBoxDiagonal(m.V);
   if (!(r0 > 0) || !std::isfinite(r0)) { res.error = "all edges have zero length"; return res; }
   const double rh = std::max(r0, p.maxRadiusPercent / 100.0 * diag);
-  const int H = p.numRadii;
-  for (int i = 0; i < H; ++i)
-    ctx.radii.push_back(H == 1 ? r0 : r0 * std::pow(rh / r0, double(i) / double(H - 1)));
+  ctx.radii = FitmapRadii(r0, rh, diag, p);
+  const int H = int(ctx.radii.size());
   res.radii = ctx.radii;
 
   Progress prog(cb);
@@ -882,7 +898,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   res.computed.assign(nV, 0);
   for (int v : todo) {
     res.computed[v] = 1;
-    res.M[v] = r0;
+    res.M[v] = ctx.radii[0];  // r_0 on the paper's grid
   }
   if (p.keepPerRadius) {
     res.perRadiusE.assign(size_t(nV) * H, -1.0);

@@ -16,6 +16,13 @@
 
 namespace vcgext {
 
+/// Ratio of consecutive radii of the resolution-independent grid (FitmapParams::minRadiusPercent
+/// > 0): the paper's grid on its own reference scan, bunny00 (9 radii from its average edge
+/// length, 0.5 % of the diagonal, to 25 %: (0.4006 / 0.008106)^(1/8) = 1.6283, rounded down so that
+/// r_h / q^8 stays above r_0), so bunny00 keeps its radii
+/// down to the floor.
+inline constexpr double kAnchoredRadiusRatio = 1.628;
+
 /// Parameters of ComputeFitmaps. Lengths are relative to the bounding-box diagonal where noted.
 /// Decisions where the paper is ambiguous are listed in docs/fitmaps.md.
 struct FitmapParams {
@@ -26,6 +33,16 @@ struct FitmapParams {
   double tauPercent = 1.0;         ///< tau: tolerated area share of flipped (un-hit) triangles, percent
   int numRadii = 9;                ///< number of radii r_0..r_h (paper: h = 8, i.e. 9 radii), 1..64
   double maxRadiusPercent = 25.0;  ///< r_h in percent of the bbox diagonal (paper: 1/4 = 25%)
+  /// The smallest radius, in percent of the bbox diagonal; selects the radius grid (an
+  /// experiment, not used by the filters: docs/multires.md "Radii that do not depend on the
+  /// resolution" has what it measured; bench_quad --rmin):
+  /// - 0: the paper's grid, numRadii radii spaced geometrically from r_0 = the average edge length
+  ///   to r_h. Its radii move with the mesh's resolution, and so does the M-fitmap where no
+  ///   radius passes (it falls back to r_0: along the creases of a CAD part the patches shrink
+  ///   with the edges; fandisk 430 patches, made 4x denser 750).
+  /// - > 0: a grid that does not depend on the resolution: r_h / q^k, k = 0, 1, ..., with
+  ///   q = kAnchoredRadiusRatio, down to max(this, r_0); numRadii is not used.
+  double minRadiusPercent = 0.0;
   Mode mode = Mode::Fast;
   unsigned seed = 1;               ///< random sampling seed (results are deterministic per seed)
   /// A radius enters the S-fitmap's fit E(r) = a r^4 only if its neighbourhood holds at least
@@ -77,6 +94,11 @@ struct FitmapParams {
   /// use their "working resolution"). Fast mode without a vertex subset only.
   int workingFaces = 0;
 };
+
+/// The radii r_0..r_h of ComputeFitmaps (ascending, absolute): `r0` the average edge length,
+/// `rh` = max(r0, maxRadiusPercent of `diag`), `diag` the bbox diagonal; see
+/// FitmapParams::minRadiusPercent for the two grids.
+std::vector<double> FitmapRadii(double r0, double rh, double diag, const FitmapParams& p);
 
 /// Per-vertex results, indexed like the TriData's V (unreferenced vertices: S = 0, M = r_0).
 /// Values are always finite.
