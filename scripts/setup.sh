@@ -17,7 +17,7 @@ export DEBIAN_FRONTEND=noninteractive
 
 PKGS=(meshlab dpkg-dev build-essential cmake pkg-config qtbase5-dev libqt5opengl5-dev
       libqt5xmlpatterns5-dev libglew-dev libgl-dev libglu1-mesa-dev libeigen3-dev libgtest-dev
-      libembree-dev libosd-dev libpng-dev xvfb xauth python3)
+      libembree-dev libosd-dev libpng-dev libsuitesparse-dev libopenblas0-openmp xvfb xauth python3)
 missing=()
 for p in "${PKGS[@]}"; do dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p"); done
 apt_updated=0

@@ -25,7 +25,7 @@ log() { printf '[setup_pymeshlab] %s\n' "$*" >&2; }
 export DEBIAN_FRONTEND=noninteractive
 
 PKGS=(build-essential cmake pkg-config qtbase5-dev libqt5opengl5-dev libeigen3-dev libembree-dev
-      libosd-dev libpng-dev python3 python3-venv xz-utils dpkg-dev)
+      libosd-dev libpng-dev libsuitesparse-dev libopenblas0-openmp python3 python3-venv xz-utils dpkg-dev)
 missing=()
 for p in "${PKGS[@]}"; do dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p"); done
 if [ ${#missing[@]} -gt 0 ]; then

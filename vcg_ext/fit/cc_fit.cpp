@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "vcg_ext/fit/fit_internal.h"
+#include "vcg_ext/fit/sparse_solver.h"
 #include "vcg_ext/subdiv/limit_surface.h"
 
 namespace vcgext {
@@ -255,7 +256,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   res.secondsSetup = Since(t0);
   prog(20, "Fit: factorizing", true);
   auto tf = Clock::now();
-  Eigen::SimplicialLDLT<SpMat> ldlt;
+  fitdetail::SpdSolver ldlt(int(M.rows()));
   ldlt.compute(M);
   res.secondsFactor = Since(tf);
   if (ldlt.info() != Eigen::Success) {

@@ -10,8 +10,8 @@
 //    (f,u,v) of x (closest point of a tessellation, refined by Gauss-Newton on the exact limit),
 //    t = x, n = limit normal at the foot point.
 // Unknowns are ordered coordinate-major (x of all vertices, then y, then z). The sparsity pattern
-// (union over faces of support(f)², ⊗ 3×3) is fixed, so SimplicialLDLT analyses it once and
-// refactorizes every iteration. Assembly is per face (dense local blocks, added in face order).
+// (union over faces of support(f)², ⊗ 3×3) is fixed, so the solver (sparse_solver.h: CHOLMOD's
+// supernodal Cholesky, else SimplicialLDLT) analyses it once and refactorizes every iteration. Assembly is per face (dense local blocks, added in face order).
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -25,6 +25,7 @@
 
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/fit_internal.h"
+#include "vcg_ext/fit/sparse_solver.h"
 
 namespace vcgext {
 namespace fitdetail {
@@ -122,7 +123,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     H.setFromTriplets(t.begin(), t.end());
     H.makeCompressed();
   }
-  Eigen::SimplicialLDLT<SpMat> ldlt;
+  SpdSolver ldlt(int(H.rows()));
   ldlt.analyzePattern(H);
 
   // ---- per-iteration state.
