@@ -47,96 +47,88 @@ def irregular(faces):
     return n, dict(sorted(hist.items()))
 
 
-def edge_rotations(faces):
+def greedy(faces, one_move):
+    """Applies `one_move` (which finds and applies one improving move, or returns False) until none
+    is left; the topology is rebuilt after each move. Returns the number of moves."""
     moves = 0
     while True:
         edges, vf, boundary = topology(faces)
         val = lambda v: len(vf[v]) + (v in boundary)
         reg = lambda v: 3 if v in boundary else 4
-        done = 0
-        for fi in range(len(faces)):
-            for k in range(4):
-                q = faces[fi]
-                u, v, a, b = q[k], q[(k + 1) % 4], q[(k + 2) % 4], q[(k + 3) % 4]
-                if (v, u) not in edges:
-                    continue
-                gi, kg = edges[(v, u)]
-                g = faces[gi]
-                if g[kg] != v or gi == fi:
-                    continue
-                c, d = g[(kg + 2) % 4], g[(kg + 3) % 4]
-                hexagon = [u, v, a, b, c, d]
-                if len(set(hexagon)) < 6:
-                    continue
-                best, best_var = 0, -1
-                for var in (0, 1):
-                    dv = [-1, -1, 1, 0, 1, 0] if var == 0 else [-1, -1, 0, 1, 0, 1]
-                    if any(val(x) + dx < 3 and x not in boundary for x, dx in zip(hexagon, dv)):
-                        continue
-                    delta = sum(abs(val(x) + dx - reg(x)) - abs(val(x) - reg(x)) for x, dx in zip(hexagon, dv))
-                    if delta < best:
-                        best, best_var = delta, var
-                if best_var < 0:
-                    continue
-                nf, ng = ([a, b, u, c], [c, d, v, a]) if best_var == 0 else ([b, u, c, d], [d, v, a, b])
-                new = [(nf[i], nf[(i + 1) % 4]) for i in range(4)] + [(ng[i], ng[(i + 1) % 4]) for i in range(4)]
-                old = {(q[i], q[(i + 1) % 4]) for i in range(4)} | {(g[i], g[(i + 1) % 4]) for i in range(4)}
-                if any(e in edges and e not in old for e in new):
-                    continue
-                faces[fi], faces[gi] = nf, ng
-                done += 1
-                break  # topology changed: rebuild
-            else:
-                continue
-            break
-        if not done:
+        if not one_move(faces, edges, vf, boundary, val, reg):
             return moves
-        moves += done
+        moves += 1
 
 
-def vertex_rotations(faces):
-    moves = 0
-    while True:
-        edges, vf, boundary = topology(faces)
-        val = lambda v: len(vf[v]) + (v in boundary)
-        reg = lambda v: 3 if v in boundary else 4
-        done = 0
-        for v in list(vf):
-            if v in boundary:
+def edge_rotation(faces, edges, vf, boundary, val, reg):
+    for fi in range(len(faces)):
+        for k in range(4):
+            q = faces[fi]
+            u, v, a, b = q[k], q[(k + 1) % 4], q[(k + 2) % 4], q[(k + 3) % 4]
+            if (v, u) not in edges:
                 continue
-            fan = {}
-            for fi in vf[v]:
-                q = faces[fi]
-                k = q.index(v)
-                fan[q[(k + 1) % 4]] = (q[(k + 2) % 4], q[(k + 3) % 4], fi)
-            n = len(vf[v])
-            if len(fan) != n:
+            gi, kg = edges[(v, u)]
+            g = faces[gi]
+            if g[kg] != v or gi == fi:
                 continue
-            xs, ys, fis = [next(iter(fan))], [], []
-            while True:
-                y, xn, fi = fan[xs[-1]]
-                ys.append(y)
-                fis.append(fi)
-                if xn == xs[0] or xn not in fan or len(xs) > n:
-                    break
-                xs.append(xn)
-            if len(xs) != n or len(set(xs) | set(ys)) != 2 * n:
+            c, d = g[(kg + 2) % 4], g[(kg + 3) % 4]
+            hexagon = [u, v, a, b, c, d]
+            if len(set(hexagon)) < 6:
                 continue
-            if any(val(x) - 1 < 3 and x not in boundary for x in xs):
+            best, best_var = 0, -1
+            for var in (0, 1):
+                dv = [-1, -1, 1, 0, 1, 0] if var == 0 else [-1, -1, 0, 1, 0, 1]
+                if any(val(x) + dx < 3 and x not in boundary for x, dx in zip(hexagon, dv)):
+                    continue
+                delta = sum(abs(val(x) + dx - reg(x)) - abs(val(x) - reg(x)) for x, dx in zip(hexagon, dv))
+                if delta < best:
+                    best, best_var = delta, var
+            if best_var < 0:
                 continue
-            if any((v, y) in edges or (y, v) in edges for y in ys):
+            nf, ng = ([a, b, u, c], [c, d, v, a]) if best_var == 0 else ([b, u, c, d], [d, v, a, b])
+            new = [(nf[i], nf[(i + 1) % 4]) for i in range(4)] + [(ng[i], ng[(i + 1) % 4]) for i in range(4)]
+            old = {(q[i], q[(i + 1) % 4]) for i in range(4)} | {(g[i], g[(i + 1) % 4]) for i in range(4)}
+            if any(e in edges and e not in old for e in new):
                 continue
-            before = sum(abs(val(x) - reg(x)) for x in xs + ys)
-            after = sum(abs(val(x) - 1 - reg(x)) for x in xs) + sum(abs(val(y) + 1 - reg(y)) for y in ys)
-            if after >= before:
-                continue
-            for i in range(n):
-                faces[fis[i]] = [v, ys[i - 1], xs[i], ys[i]]
-            done = 1
-            break  # topology changed: rebuild
-        if not done:
-            return moves
-        moves += done
+            faces[fi], faces[gi] = nf, ng
+            return True
+    return False
+
+
+def vertex_rotation(faces, edges, vf, boundary, val, reg):
+    for v in list(vf):
+        if v in boundary:
+            continue
+        fan = {}
+        for fi in vf[v]:
+            q = faces[fi]
+            k = q.index(v)
+            fan[q[(k + 1) % 4]] = (q[(k + 2) % 4], q[(k + 3) % 4], fi)
+        n = len(vf[v])
+        if len(fan) != n:
+            continue
+        xs, ys, fis = [next(iter(fan))], [], []
+        while True:
+            y, xn, fi = fan[xs[-1]]
+            ys.append(y)
+            fis.append(fi)
+            if xn == xs[0] or xn not in fan or len(xs) > n:
+                break
+            xs.append(xn)
+        if len(xs) != n or len(set(xs) | set(ys)) != 2 * n:
+            continue
+        if any(val(x) - 1 < 3 and x not in boundary for x in xs):
+            continue
+        if any((v, y) in edges or (y, v) in edges for y in ys):
+            continue
+        before = sum(abs(val(x) - reg(x)) for x in xs + ys)
+        after = sum(abs(val(x) - 1 - reg(x)) for x in xs) + sum(abs(val(y) + 1 - reg(y)) for y in ys)
+        if after >= before:
+            continue
+        for i in range(n):
+            faces[fis[i]] = [v, ys[i - 1], xs[i], ys[i]]
+        return True
+    return False
 
 
 def check(faces):
@@ -159,11 +151,11 @@ def main():
     for path in sys.argv[1:]:
         faces = load(path)
         print(f"{path}: {len(faces)} quads, irregular {irregular(faces)}")
-        swaps = edge_rotations(faces)
+        swaps = greedy(faces, edge_rotation)
         print(f"  after {swaps} edge rotations: irregular {irregular(faces)}")
-        rotations = vertex_rotations(faces)
+        rotations = greedy(faces, vertex_rotation)
         print(f"  after {rotations} vertex rotations: irregular {irregular(faces)}")
-        swaps = edge_rotations(faces)
+        swaps = greedy(faces, edge_rotation)
         print(f"  after {swaps} more edge rotations: irregular {irregular(faces)}")
         check(faces)
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <sstream>
 
 #include "filter_table.h"
@@ -24,8 +25,9 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
                          "without modifying the layer."));
   par.addParam(RichInt(param::kTargetPatches, d.targetPatches, "Target patches (0 = automatic)",
                        "Stop at this many patches (with the equalized layout the budget is reached "
-                       "whatever tau: the M-fitmap test is not applied); 0 = the count of the paper's "
-                       "halting criterion (simplify until no feasible collapse is left)."));
+                       "whatever tau: the M-fitmap test is not applied; a layer with too few "
+                       "triangles for it starts from its midpoint refinement); 0 = the count of the "
+                       "paper's halting criterion (simplify until no feasible collapse is left)."));
   par.addParam(RichBool(param::kUseMFitmap, d.useMFitmap, "M-fitmap test",
                         "Refuse collapses that make a patch larger than the M-fitmap allows "
                         "(projectability). Off: only the S-fitmap cost; needs a target count."));
@@ -57,6 +59,23 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
   par.addParam(RichBool(param::kValidate, d.validateEveryOperation, "Validate every operation (slow)",
                         "Test mode: full mesh validity check after every local operation."));
 }
+
+namespace {
+// Where the simplification starts (docs/quad.md "Budget survey"): the working resolution rule, and
+// with a budget of N patches a start that can reach it. An input whose pairing gives fewer than N
+// quads (fewer than 2N + 2 triangles) starts from its midpoint refinement (x4 per step, at most
+// three steps; helmet, 1 000 triangles, stopped at 486 patches for 1 000); a dense one is
+// decimated to no fewer than 4N triangles (2N quads: room for the collapses to choose). Inputs
+// that could already reach N are not refined: rotor (1 200 triangles) refined for 400 patches
+// stopped at 683 instead of 515 (the thin-part guard refuses more collapses on more quads).
+vcgext::StartMeshParams BudgetStartParams(int workingFaces, int targetPatches, int inputFaces) {
+  const long reach = targetPatches > 0 ? 2L * targetPatches + 2 : 0, room = targetPatches > 0 ? 4L * targetPatches : 0;
+  const long maxRefined = std::max<long>(kMinWorkingFaces, 64L * inputFaces);
+  const int minFaces = int(std::min(std::max<long>(kMinWorkingFaces, reach), maxRefined));
+  const int startFaces = workingFaces > 0 ? int(std::min<long>(std::max<long>(workingFaces, room), INT_MAX)) : 0;
+  return {startFaces, kDefaultFitmapsWorkingFaces, minFaces, kMaxStartValence};
+}
+}  // namespace
 
 bool ApplyQuad(GlueContext& ctx) {
   MeshModel& in = *ctx.md.mm();
@@ -98,7 +117,9 @@ bool ApplyQuad(GlueContext& ctx) {
   if (faux > 0) {
     std::string err = vcgext::ImportQuads(in.cm, given);
     // a tiny quad layer (a 6-quad cube) is better started from its refined triangles
-    useQuads = err.empty() && int(given.F.size()) * 2 >= kMinWorkingFaces && vcgext::RemapQuadsToWorkingCopy(w, given.F);
+    // (and one with fewer quads than the budget from its triangles, refined for room)
+    useQuads = err.empty() && int(given.F.size()) * 2 >= kMinWorkingFaces && int(given.F.size()) >= p.targetPatches &&
+               vcgext::RemapQuadsToWorkingCopy(w, given.F);
     ctx.log(useQuads ? "Fitmap Quad Simplification: the layer is pure quads: simplifying its quads"
                      : "Fitmap Quad Simplification: the layer's polygons are not usable as quads (" +
                            (err.empty() ? std::string("repaired on the working copy, or too few") : err) +
@@ -134,7 +155,7 @@ bool ApplyQuad(GlueContext& ctx) {
 
   // Working resolution M' (§4): the control mesh starts from a decimated copy of a dense input.
   vcgext::StartMeshParams sp{0, 0, 0, 0};  // a pure-quad layer: from its quads
-  if (!useQuads) sp = {workingFaces, kDefaultFitmapsWorkingFaces, kMinWorkingFaces, kMaxStartValence};
+  if (!useQuads) sp = BudgetStartParams(workingFaces, p.targetPatches, int(tri.F.size()));
   const vcgext::StartMesh start = vcgext::ChooseStartMesh(tri, sp, ctx.cb);
   for (const std::string& warning : start.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + warning);
   for (const std::string& note : start.notes) ctx.log("Fitmap Quad Simplification: " + note);

@@ -18,6 +18,19 @@ e2e::RunResult RunOnSample(const std::string& args, const std::string& mesh, con
                   " " + e2e::Q(outdir));
 }
 
+// The same into e2e::OutPath(`name`), with the run's report.json and meshlab.log
+struct PipelineOutputs {
+  e2e::RunResult run;
+  std::string json, log;
+};
+PipelineOutputs RunForReport(const std::string& args, const std::string& mesh, const std::string& name) {
+  const std::string outdir = e2e::OutPath(name);
+  PipelineOutputs o{RunOnSample(args, mesh, outdir), "", ""};
+  o.json = e2e::Slurp(outdir + "/report.json");
+  o.log = e2e::Slurp(outdir + "/meshlab.log");
+  return o;
+}
+
 TEST(RunPipeline, WritesColourMappedFitmapOnElephant) {  // the first output, checked in detail
   const std::string outdir = e2e::OutPath("pipeline_elephant");
   auto r = RunOnSample("--tau 5", "elephant.off", outdir);
@@ -79,6 +92,24 @@ TEST(RunPipeline, PatchBudgetIsHonoured) {
   EXPECT_GE(patches, 595);
 }
 
+// A budget above what the input's pairing can give: helmet.off has 1 000 triangles, so ~500 quads,
+// and a budget of 1 000 patches stopped at 486 (2026-12-02 budget survey). The start is now its
+// midpoint refinement (4 000 triangles), and the budget is reached with a valid fit.
+TEST(RunPipeline, BudgetAboveTheInputsQuadsIsReachedFromItsRefinement) {
+  const PipelineOutputs o = RunForReport("--patches 1000", "helmet.off", "pipeline_budget_helmet");
+  ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
+  const std::string& json = o.json;
+  const std::string& log = o.log;
+  EXPECT_NE(log.find("refined 1 times at edge midpoints (4000 triangles"), std::string::npos) << log;
+  const double patches = e2e::JsonNumber(json, "patches");
+  EXPECT_GE(patches, 980) << json;
+  EXPECT_LE(patches, 1000) << json;
+  EXPECT_EQ(log.find("was not reached"), std::string::npos) << "no budget warning";
+  EXPECT_LE(e2e::JsonNumber(json, "unprojectable_pct"), 0.1) << json;
+  // closer than the 486-patch cage of the unrefined start (1.043 per mille; measured 0.846)
+  EXPECT_LT(e2e::JsonNumber(json, "rms_limit_permille"), 1.04) << json;
+}
+
 // A budget the thin-part guard stops above is laid out again with the guard's tolerance doubled,
 // and that cage is kept only when it covers the scan about as well. cow.off at 400 patches: the
 // first pass stops at 421; the relaxed pass reaches 392, but its interpolating limit is 22 per
@@ -86,11 +117,10 @@ TEST(RunPipeline, PatchBudgetIsHonoured) {
 // ratio); after the fit it stayed 22 per mille off with 3.7 % unprojectable when it was kept
 // before this check. The first pass's cage is kept and the budget's miss is a warning.
 TEST(RunPipeline, RelaxedBudgetCageThatCoversTheScanWorseIsNotKept) {
-  const std::string outdir = e2e::OutPath("pipeline_budget_cow");
-  auto r = RunOnSample("--patches 400", "cow.off", outdir);
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  const std::string json = e2e::Slurp(outdir + "/report.json");
-  const std::string log = e2e::Slurp(outdir + "/meshlab.log");
+  const PipelineOutputs o = RunForReport("--patches 400", "cow.off", "pipeline_budget_cow");
+  ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
+  const std::string& json = o.json;
+  const std::string& log = o.log;
   EXPECT_NE(log.find("doubled reached"), std::string::npos) << "the relaxed pass ran";
   EXPECT_NE(log.find("but was not kept"), std::string::npos) << log;
   EXPECT_NE(log.find("was not reached"), std::string::npos) << "the miss is a warning";
