@@ -229,6 +229,19 @@ def test_regularity_weight_gives_fewer_irregular_vertices_at_a_budget():
     assert irregular[1] < irregular[0], irregular
 
 
+def test_budget_above_the_layers_quads_is_reached_from_its_refinement():
+    # an icosphere of 320 triangles starts from its 1 280-triangle refinement (the 1 000-triangle
+    # minimum), whose pairing gives 640 quads: a budget of 700 used to stop there; with a budget the
+    # start is refined until it can reach it (2N + 2 triangles: 5 120), as in run_pipeline.sh
+    ms = pymeshlab.MeshSet()
+    m = icosphere(2)
+    assert m.face_number() == 320
+    ms.add_mesh(m, "sphere")
+    q = ms.generate_fitmap_quad_simplification(targetpatches=700)
+    assert 686 <= q["patches"] <= 700, q["patches"]
+    assert ms.mesh(0).face_number() == 320  # the input layer is untouched
+
+
 def test_renderer_grid_bakes_for_blender(tmp_path):
     # rendererGrid (issue 15, docs/blender.md) under its PyMeshLab spelling: the atlas says it was
     # baked for the renderer's level-L subdivision, and the displaced layer is that uniform grid
