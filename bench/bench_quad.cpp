@@ -146,9 +146,9 @@ int main(int argc, char** argv) {
   std::string mesh;
   const char* env = std::getenv("FITMAP_DATA_DIR");
   mesh = std::string(env ? env : "/tmp/cgal/data/meshes") + "/bunny00.off";
-  int runs = 3, threads = 2, target = 0;
+  int runs = 3, threads = 2, target = 0, nradii = -1;
   bool standin = false, finalFit = true, useM = true, noArea = false;
-  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, rmin = -1, nradii = -1, mcap = -1, valenceWeight = -1;
+  double mscale = 1.0, dev = -1, devcap = -1, rh = -1, rmin = -1, mcap = -1, valenceWeight = -1;
   std::string objPrefix, dumpUnreached;
   std::vector<double> taus{1.0, 10.0};
   for (int i = 1; i < argc; ++i) {
@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
       fp.tauPercent = tau;
       if (rh > 0) fp.maxRadiusPercent = rh;
       if (rmin > 0) fp.minRadiusPercent = rmin;
-      if (nradii > 0) fp.numRadii = int(nradii);
+      if (nradii > 0) fp.numRadii = nradii;
       auto t0 = std::chrono::steady_clock::now();
       auto fr = vcgext::ComputeFitmaps(in, scene, fp);
       tFit = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -256,10 +256,10 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   res.secondsSetup = Since(t0);
   prog(20, "Fit: factorizing", true);
   auto tf = Clock::now();
-  fitdetail::SpdSolver ldlt(int(M.rows()));
-  ldlt.compute(M);
+  fitdetail::SpdSolver solver(int(M.rows()));
+  solver.compute(M);
   res.secondsFactor = Since(tf);
-  if (ldlt.info() != Eigen::Success) {
+  if (solver.info() != Eigen::Success) {
     res.error = "the fitting system is singular (" + std::to_string(nV) + " control vertices, " +
                 std::to_string(nS) + " samples): increase samplesPerVertex or dampingWeight";
     return res;
@@ -308,7 +308,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
     auto ts = Clock::now();
     Eigen::MatrixXd rhs = AtW * T;
     if (lambda > 0) rhs += lambda * X;
-    X = ldlt.solve(rhs);
+    X = solver.solve(rhs);
     res.secondsSolve += Since(ts);
     ++res.iterations;
     if (!X.allFinite()) { X = best; break; }

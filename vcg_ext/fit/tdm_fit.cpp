@@ -11,7 +11,8 @@
 //    t = x, n = limit normal at the foot point.
 // Unknowns are ordered coordinate-major (x of all vertices, then y, then z). The sparsity pattern
 // (union over faces of support(f)², ⊗ 3×3) is fixed, so the solver (sparse_solver.h: CHOLMOD's
-// supernodal Cholesky, else SimplicialLDLT) analyses it once and refactorizes every iteration. Assembly is per face (dense local blocks, added in face order).
+// supernodal Cholesky for large systems, else SimplicialLDLT) analyses it once and refactorizes
+// every iteration. Assembly is per face (dense local blocks, added in face order).
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -123,8 +124,8 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     H.setFromTriplets(t.begin(), t.end());
     H.makeCompressed();
   }
-  SpdSolver ldlt(int(H.rows()));
-  ldlt.analyzePattern(H);
+  SpdSolver solver(int(H.rows()));
+  solver.analyzePattern(H);
 
   // ---- per-iteration state.
   std::vector<Constraint> cons(size_t(nR) + nRef);
@@ -378,9 +379,9 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
             }
     }
     for (int c = 0; c < 3; ++c) rhs.segment(c * nV, nV) += lambda * X.col(c);
-    ldlt.factorize(H);
-    if (ldlt.info() != Eigen::Success) { res.secondsSolve += Since(ts); break; }
-    Eigen::VectorXd sol = ldlt.solve(rhs);
+    solver.factorize(H);
+    if (solver.info() != Eigen::Success) { res.secondsSolve += Since(ts); break; }
+    Eigen::VectorXd sol = solver.solve(rhs);
     res.secondsSolve += Since(ts);
     ++res.iterations;
     if (!sol.allFinite()) break;
