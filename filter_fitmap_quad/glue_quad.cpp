@@ -174,6 +174,7 @@ bool ApplyQuad(GlueContext& ctx) {
   times.push_back({"tri_to_quad", r.secondsTriToQuad});
   times.push_back({"initial_fit", r.secondsInitialFit});
   times.push_back({"simplification", r.secondsSimplify});
+  if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
   SetStageTimes(out->cm, times);
   StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
   memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});
@@ -196,8 +197,11 @@ bool ApplyQuad(GlueContext& ctx) {
   if (r.budgetRelaxations > 0) {
     std::ostringstream b;
     b << "Fitmap Quad Simplification: the thin-part guard stopped the budget of " << p.targetPatches
-      << " patches at " << r.budgetFromPatches << "; laid out again with its tolerance doubled ("
-      << r.budgetDeviationFactor << " x the M-fitmap): " << r.patches << " patches";
+      << " patches at " << r.budgetFromPatches << "; laid out again";
+    if (r.budgetStartFaces > 0) b << " from a start decimated to " << r.budgetStartFaces << " triangles";
+    b << " with the guard's tolerance at " << r.budgetDeviationFactor << " x the M-fitmap";
+    if (r.budgetRelaxations != 2) b << " (doubled)";
+    b << ": " << r.patches << " patches";
     ctx.log(b.str());
   }
   if (p.targetPatches > 0 && r.patches > p.targetPatches + p.targetPatches / 50)

@@ -110,27 +110,27 @@ TEST(RunPipeline, BudgetAboveTheInputsQuadsIsReachedFromItsRefinement) {
   EXPECT_LT(e2e::JsonNumber(json, "rms_limit_permille"), 1.04) << json;
 }
 
-// A budget the thin-part guard stops above is laid out again with the guard's tolerance doubled,
-// and that cage is kept only when it covers the scan about as well. cow.off at 400 patches: the
-// first pass stops at 421; the relaxed pass reaches 392, but its interpolating limit is 22 per
-// mille (RMS) from the cow where 12.1 are allowed (twice the first pass's 5.6 scaled by the patch
-// ratio); after the fit it stayed 22 per mille off with 3.7 % unprojectable when it was kept
-// before this check. The first pass's cage is kept and the budget's miss is a warning.
-TEST(RunPipeline, RelaxedBudgetCageThatCoversTheScanWorseIsNotKept) {
+// The budget ladder (docs/quad.md "Budget ladder") on cow.off at 400 patches (measured
+// 2026-12-03): the first pass stops at 421 (2.19 per mille); the guard's tolerance doubled reaches
+// 392 patches that lost the legs (fitted 14 per mille from the cow; kept before 2026-12-02 it gave
+// 22 per mille and 3.7 % unprojectable): refused; the start decimated to 1 600 triangles reaches
+// 400 (with the doubled guard; the plain guard's pass flips patches): kept, 1.92 per mille,
+// 0.15 % unprojectable.
+TEST(RunPipeline, BudgetLadderRefusesACageThatLostAPartAndReachesTheBudgetFromACoarseStart) {
   const PipelineOutputs o = RunForReport("--patches 400", "cow.off", "pipeline_budget_cow");
   ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
   const std::string& json = o.json;
   const std::string& log = o.log;
-  EXPECT_NE(log.find("doubled reached"), std::string::npos) << "the relaxed pass ran";
-  EXPECT_NE(log.find("but was not kept"), std::string::npos) << log;
-  EXPECT_NE(log.find("was not reached"), std::string::npos) << "the miss is a warning";
-  const double patches = e2e::JsonNumber(json, "patches");
-  EXPECT_GT(patches, 408) << "the first pass's cage (stopped above the budget)";
-  EXPECT_LE(patches, 440);
-  // the kept cage fits the scan: under 0.1 % unprojectable (issue 13), RMS limit under 3 per mille
-  // (the refused cage: 3.7 % and 22)
-  EXPECT_LE(e2e::JsonNumber(json, "unprojectable_pct"), 0.1) << json;
+  EXPECT_NE(log.find("doubled reached"), std::string::npos) << "the first rung ran";
+  EXPECT_NE(log.find("but was not kept: fitted"), std::string::npos) << log;
+  EXPECT_NE(log.find("from a start decimated to 1600 triangles"), std::string::npos) << log;
+  EXPECT_EQ(log.find("was not reached"), std::string::npos) << "no budget warning";
+  EXPECT_NEAR(e2e::JsonNumber(json, "patches"), 400, 8) << json;
+  // the kept cage fits the scan: RMS limit under 3 per mille (the refused cage: 22), unprojectable
+  // under 0.25 % (0.15; the refused cage 3.7 %, issue 13's target 0.1 % is not met here)
   EXPECT_LE(e2e::JsonNumber(json, "rms_limit_permille"), 3.0) << json;
+  EXPECT_LE(e2e::JsonNumber(json, "unprojectable_pct"), 0.25) << json;
+  EXPECT_GT(e2e::JsonNumber(json, "budget_retries"), 0) << "the retries are timed: " << json;
 }
 
 // --regularity W (the filter's "regularity", QuadSimplifyParams::valenceWeight) reaches the

@@ -171,12 +171,16 @@ struct QuadSimplifyResult {
   double coverageFromRms = 0;
   double coverageFromUnprojectablePct = 0;  ///< that cage's unprojectable share (%)
   double layoutUnprojectablePct = -1;       ///< the kept cage's (guard on; -1: not measured)
-  /// Budget (targetPatches) the thin-part guard stopped above: 1 when the cage kept is a second
-  /// layout pass with the guard's tolerance doubled (its deviationFactor here), and the patches
-  /// the first pass stopped at. 0 / -1 / 0: the first pass's cage.
+  /// Budget (targetPatches) the thin-part guard stopped above (the ladder, docs/quad.md "Budget
+  /// ladder"): which retry the kept cage is — 1: the guard's tolerance doubled; 2: a start
+  /// decimated to 4 x the budget in triangles (budgetStartFaces); 3: that start, the tolerance
+  /// doubled —, its guard factor (deviationFactor), and the patches the first pass stopped at.
+  /// 0 / -1 / 0 / 0: the first pass's cage.
   int budgetRelaxations = 0;
   double budgetDeviationFactor = -1;
   int budgetFromPatches = 0;
+  int budgetStartFaces = 0;
+  double secondsBudgetRetries = 0;  ///< the ladder's passes not kept (the first pass's too), in secondsTotal
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
