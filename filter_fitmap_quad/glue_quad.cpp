@@ -93,6 +93,9 @@ bool ApplyQuad(GlueContext& ctx) {
   // Coverage guard at 5 tau (the count let the limit stray five times the tolerance), at most
   // 10 % of the diagonal (docs/robustness.md "Closed thin shapes").
   p.coverageRmsPermille = std::min(50.0 * tau, 100.0);
+  // A start too coarse (its cage keeps more than half its quads, its limit farther than tau):
+  // refined (docs/quad.md "A start too coarse").
+  p.startRmsPermille = 10.0 * tau;
   const int workingFaces = ctx.par.getInt(param::kWorkingFaces);
   if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
@@ -175,6 +178,7 @@ bool ApplyQuad(GlueContext& ctx) {
   times.push_back({"initial_fit", r.secondsInitialFit});
   times.push_back({"simplification", r.secondsSimplify});
   if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
+  if (r.secondsStartRetries > 0) times.push_back({"start_refinement", r.secondsStartRetries});
   SetStageTimes(out->cm, times);
   StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
   memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});
@@ -204,6 +208,10 @@ bool ApplyQuad(GlueContext& ctx) {
     b << ": " << r.patches << " patches";
     ctx.log(b.str());
   }
+  if (r.startRefinements > 0)
+    ctx.log("Fitmap Quad Simplification: the cage of the start mesh (" + std::to_string(r.startRefinedFrom) +
+            " patches) stayed off the input (its start mesh too coarse for it): simplified again from the start refined " +
+            std::to_string(r.startRefinements) + " time(s) at edge midpoints: " + std::to_string(r.patches) + " patches");
   if (p.targetPatches > 0 && r.patches > p.targetPatches + p.targetPatches / 50)
     ctx.log("Warning: Fitmap Quad Simplification: the budget of " + std::to_string(p.targetPatches) +
             " patches was not reached: " + std::to_string(r.patches) +

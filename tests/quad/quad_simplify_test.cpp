@@ -931,3 +931,44 @@ TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardGoesDownTheLadder) {
   EXPECT_EQ(re.budgetDeviationFactor, -1.0);
   EXPECT_LE(re.patches, 60);
 }
+
+// A start too coarse for its input is refined (docs/quad.md "A start too coarse"). rotor.off
+// (1 200 long CAD triangles, 599 pairs) with the filter's guards at tau = 1 % (coverage 50 per
+// mille, start 10): from its own triangles the simplification keeps most of the pairs and their
+// limit stays far off the part (the pipeline: 515 patches, 45 per mille interpolating, 40 after
+// the fit); from the start refined at edge midpoints the cage, fitted, is several times closer.
+// Stand-in Fitmaps (S = 1, M = 5 % of the diagonal): the trigger depends only on the cage.
+TEST(QuadSimplify, StartTooCoarseForTheInputIsRefined) {
+  const auto t = testsupport::LoadSample("rotor.off");
+  vcgext::EmbreeScene scene(t);
+  const double diag = vcgext::BBoxDiagonal(t.V);
+  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.05 * diag);
+  vcgext::QuadSimplifyParams p;
+  p.coverageRmsPermille = 50;
+  p.startRmsPermille = 10;
+  auto off = p;
+  off.startRmsPermille = 0;
+  const auto r0 = vcgext::SimplifyToQuads(t, scene, S, M, off);
+  const auto r1 = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  ASSERT_EQ(r0.error, "");
+  ASSERT_EQ(r1.error, "");
+  std::printf("rotor: own start %d patches (interpolating RMS %.3g per mille); refined %d time(s): %d patches\n", r0.patches,
+              1000 * r0.layoutRms / diag, r1.startRefinements, r1.patches);
+  EXPECT_EQ(r0.startRefinements, 0);
+  EXPECT_GT(4 * r0.patches, int(t.F.size())) << "the trigger: more than half the start's quads kept";
+  ASSERT_GE(r1.startRefinements, 1) << r1.message;
+  EXPECT_EQ(r1.startRefinedFrom, r0.patches);
+  vcgext::quad::QuadMesh q(r1.quads.V, r1.quads.F);
+  EXPECT_EQ(q.Check(), "");
+  const vcgext::FitResult f0 = vcgext::FitCatmullClark(r0.quads, t, scene), f1 = vcgext::FitCatmullClark(r1.quads, t, scene);
+  ASSERT_EQ(f0.error, "");
+  ASSERT_EQ(f1.error, "");
+  const double e0 = f0.dataRmsPerIteration.back(), e1 = f1.dataRmsPerIteration.back();
+  std::printf("fitted RMS: own start %.3g, refined %.3g per mille\n", 1000 * e0 / diag, 1000 * e1 / diag);
+  EXPECT_LT(e1, 0.5 * e0);
+  // a start whose cage is close enough is left alone (the sphere of the other tests)
+  const auto s = testsupport::Icosphere(3);
+  vcgext::EmbreeScene ss(s);
+  std::vector<double> S2(s.V.size(), 1.0), M2(s.V.size(), 0.3);
+  EXPECT_EQ(vcgext::SimplifyToQuads(s, ss, S2, M2, p).startRefinements, 0);
+}

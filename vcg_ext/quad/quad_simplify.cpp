@@ -1261,10 +1261,11 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
 
 }  // namespace
 
-QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
-                                   const std::vector<double>& M, const QuadSimplifyParams& params,
-                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
-                                   const TriData* startMesh) {
+namespace {
+QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                     const std::vector<double>& M, const QuadSimplifyParams& params,
+                                     vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
+                                     const TriData* startMesh) {
   // the valence term is the layout pass's: the paper's halting (its own mode and the count pass)
   // keeps the paper's cost (docs/quad.md "Regularity")
   if (params.layout == QuadSimplifyParams::Layout::PaperHalting && params.valenceWeight != 0) {
@@ -1456,6 +1457,66 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   res.secondsCountOverlapped = countOverlap;
   res.secondsTotal += res.secondsCount;
   return guard(std::move(res));
+}
+
+}  // namespace
+
+// A start mesh too coarse for the input (docs/quad.md "A start too coarse"): the simplification
+// only removes patches, so the start bounds the cage. A cage that keeps more than half of its
+// start's quads (the start's resolution, not the Fitmaps, decided it) and whose interpolating
+// limit stays farther than startRmsPermille from the input is simplified again from its start
+// refined at edge midpoints (the same surface, x4 triangles; up to twice, while under
+// kMaxRefinedStartFaces), and the finer start's cage kept when, fitted, it is closer to the input.
+// rotor.off (1 200 long CAD triangles, 599 pairs) stopped at 515 patches whose interpolating limit
+// was 45 per mille from the part (40 after the fit, 21 displaced). Not when the coverage guard
+// runs out of room (it could ask for ever more patches: b9_mesh went from 1 836 to 7 696).
+QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                   const std::vector<double>& M, const QuadSimplifyParams& params,
+                                   vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
+                                   const TriData* startMesh) {
+  QuadSimplifyResult r = SimplifyFromStart(input, scene, S, M, params, cb, initialQuads, startMesh);
+  if (!r.error.empty() || (initialQuads && !initialQuads->empty()) || params.targetPatches > 0) return r;
+  constexpr long kMaxRefinedStartFaces = 65536;
+  DecimateResult finer;
+  const TriData* start = startMesh ? startMesh : &input;
+  const double diag = BBoxDiagonal(input.V);
+  double rFitted = -1;  // r's fitted RMS (computed on first use)
+  auto layoutRms = [&](QuadSimplifyResult& x) {
+    if (!(x.layoutRms > 0)) x.layoutRms = InterpolationRms(input, x.quads);
+    return x.layoutRms;
+  };
+  auto needsFiner = [&](QuadSimplifyResult& x, const TriData& st) {
+    return params.startRmsPermille > 0 && 4L * x.patches > long(st.F.size()) &&
+           layoutRms(x) > params.startRmsPermille / 1000.0 * diag;
+  };
+  for (int k = 0; k < 2 && 4L * long(start->F.size()) <= kMaxRefinedStartFaces && needsFiner(r, *start); ++k) {
+    WorkingResolutionParams wp;
+    wp.minFaces = int(4 * start->F.size());
+    DecimateResult next = WorkingResolution(*start, wp);
+    if (next.refinements == 0) break;
+    QuadSimplifyResult g = SimplifyFromStart(input, scene, S, M, params, cb, nullptr, &next.mesh);
+    // judged fitted, as the next filter will fit it (the interpolating limit is a poor predictor:
+    // RetryCoversAsWell)
+    if (rFitted < 0) rFitted = FittedRms(input, scene, r.quads);
+    const double gFitted = g.error.empty() ? FittedRms(input, scene, g.quads) : rFitted;
+    if (!g.error.empty() || !(gFitted < rFitted)) {
+      r.secondsTotal += g.secondsTotal;
+      r.secondsStartRetries += g.secondsTotal;
+      AppendMessage(r.message, "a start refined at edge midpoints (" + std::to_string(next.mesh.F.size()) +
+                                   " triangles) did not cover the input better (" + std::to_string(g.patches) +
+                                   " patches): kept the cage of the coarser start");
+      break;
+    }
+    rFitted = gFitted;
+    g.secondsStartRetries = r.secondsTotal;
+    g.startRefinements = r.startRefinements + next.refinements;
+    g.startRefinedFrom = r.startRefinedFrom > 0 ? r.startRefinedFrom : r.patches;
+    g.secondsTotal += r.secondsTotal;
+    r = std::move(g);
+    finer = std::move(next);
+    start = &finer.mesh;
+  }
+  return r;
 }
 
 }  // namespace vcgext
