@@ -1475,7 +1475,10 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
                                    vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
                                    const TriData* startMesh) {
   QuadSimplifyResult r = SimplifyFromStart(input, scene, S, M, params, cb, initialQuads, startMesh);
-  if (!r.error.empty() || (initialQuads && !initialQuads->empty()) || params.targetPatches > 0) return r;
+  // (the paper's literal mode and a budget keep their start; given quads are simplified as they are)
+  if (!r.error.empty() || (initialQuads && !initialQuads->empty()) || params.targetPatches > 0 ||
+      params.layout != QuadSimplifyParams::Layout::Equalized)
+    return r;
   constexpr long kMaxRefinedStartFaces = 65536;
   DecimateResult finer;
   const TriData* start = startMesh ? startMesh : &input;

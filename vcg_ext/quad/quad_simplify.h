@@ -87,7 +87,7 @@ struct QuadSimplifyParams {
   /// low: the corpus disk's 5-patch cage leaves 9.9 % (docs/robustness.md "Flat and open
   /// shapes"). Half the report's 1 % warning level. 0 = off.
   double coverageUnprojectablePct = 0.5;
-  /// No budget: a cage that keeps more than half of its start mesh's quads (the start's
+  /// Equalized, no budget: a cage that keeps more than half of its start mesh's quads (the start's
   /// resolution, not the Fitmaps, decided it) and whose interpolating limit stays farther than
   /// this from the input (RMS, 1/1000 of the bbox diagonal) is simplified again from its start
   /// refined at edge midpoints (SimplifyToQuads; docs/quad.md "A start too coarse"). The filter
