@@ -217,6 +217,7 @@ bool ApplyQuad(GlueContext& ctx) {
             " patches was not reached: " + std::to_string(r.patches) +
             " patches: no collapse left that the checks allow (M-fitmap, thin-part guard, topology, flips)");
   ctx.Value("budget_relaxations", r.budgetRelaxations);
+  ctx.Value("start_refinements", r.startRefinements);
   ctx.Value("patches", r.patches);
   ctx.Value("irregular_vertices", r.irregularVertices);
   ctx.Value("initial_patches", r.initialPatches);

@@ -6,13 +6,13 @@ result or a clear error, never a crash, hang or silent garbage").
 
 Writes ~55 small mesh files (OFF mostly; some ASCII PLY, OBJ, binary and ASCII STL) and
 OUTDIR/manifest.json: per file its name, kind, a description and, per filter (fitmaps,
-pipeline, loop_refine, loop_curvature), the expected verdict class:
+pipeline, pipeline_budget, loop_refine, loop_curvature), the expected verdict class:
   "valid"  - must produce a valid result;
   "error"  - must fail with a clear message containing every keyword ("a|b": either word);
   "either" - a valid result or a clear error (keywords, if any, apply to the error).
 Optional per-file checks: "log_keywords" (the log must mention them whatever the verdict),
 "accept_valid_if_log" (a valid result is fine when MeshLab's loader logged this repair),
-"report_max" (upper bounds for report.json numbers of the pipeline).
+"report_max" (upper bounds for report.json numbers of the pipeline without a budget).
 Python 3 standard library only; the output is byte-for-byte deterministic. Every generated
 mesh is checked with topology() (also used by run_corpus.py) against what its kind claims.
 """
@@ -24,7 +24,10 @@ import struct
 import sys
 from collections import defaultdict
 
-FILTERS = ["fitmaps", "pipeline", "loop_refine", "loop_curvature"]
+# pipeline_budget: the whole pipeline with `--patches 200` (BUDGET): the budget ladder, the
+# budget's start rules and the fit on every input (issue 13)
+FILTERS = ["fitmaps", "pipeline", "pipeline_budget", "loop_refine", "loop_curvature"]
+BUDGET = 200
 
 
 # ----------------------------------------------------------------------------- topology check

@@ -9,7 +9,8 @@ with meshlabserver and gives each run a verdict (issue 16).
 
 fitmaps / loop_refine / loop_curvature run meshlab_scripts/<filter>.mlx through
 scripts/meshlabserver.sh and save the result with `-o out.ply -m vq ...`; pipeline runs
-`FITMAP_SKIP_SETUP=1 meshlab_scripts/run_pipeline.sh INPUT RUNDIR`. Each run has a timeout
+`FITMAP_SKIP_SETUP=1 meshlab_scripts/run_pipeline.sh INPUT RUNDIR`, pipeline_budget the same
+with `--patches 200` (a valid run above the budget must warn that it was not reached). Each run has a timeout
 (default 120 s; the ctest test passes 300). Verdicts:
   valid             exit 0, outputs exist and are finite (pipeline: report.json with patches > 0
                     and a finite unprojectable_pct, every number finite)
@@ -42,7 +43,7 @@ import subprocess
 import sys
 import time
 
-from make_corpus import FILTERS, read_off, topology
+from make_corpus import BUDGET, FILTERS, read_off, topology
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FAILURES = ["crash", "hang", "silent-wrong", "unexpected-error", "unclear-error"]
@@ -123,7 +124,7 @@ def check_ply(path, quality=False):
     return ""
 
 
-def check_pipeline(rundir, entry):
+def check_pipeline(rundir, entry, budget=0):
     for f in ("fitmap.ply", "limit.ply", "displaced.ply"):
         err = check_ply(os.path.join(rundir, f), quality=True)
         if err:
@@ -159,6 +160,12 @@ def check_pipeline(rundir, entry):
         return "report.json: patches = %s" % rep.get("patches")
     if not isinstance(rep.get("unprojectable_pct"), (int, float)):
         return "report.json has no unprojectable_pct"
+    if budget:
+        # a budget missed without a word is a silent wrong result (the log must warn)
+        log = open(os.path.join(rundir, "meshlab.log"), errors="replace").read()
+        if rep["patches"] > budget + budget // 50 and "was not reached" not in log:
+            return "%d patches for a budget of %d, and no warning that it was not reached" % (rep["patches"], budget)
+        return ""
     for key, limit in entry.get("report_max", {}).items():
         if isinstance(rep.get(key), (int, float)) and rep[key] > limit:
             return "report.json: %s = %.3g > %g" % (key, rep[key], limit)
@@ -263,14 +270,16 @@ def run_one(inp, entry, flt, outdir, timeout):
     os.makedirs(rundir)
     log = os.path.join(rundir, "run.log")
     t0 = time.time()
-    if flt == "pipeline":
+    if flt in ("pipeline", "pipeline_budget"):
         env = dict(os.environ, FITMAP_SKIP_SETUP="1")
-        rc = run([os.path.join(REPO, "meshlab_scripts", "run_pipeline.sh"), inp, rundir], log, timeout, env)
+        budget = BUDGET if flt == "pipeline_budget" else 0
+        args = ["--patches", str(budget)] if budget else []
+        rc = run([os.path.join(REPO, "meshlab_scripts", "run_pipeline.sh")] + args + [inp, rundir], log, timeout, env)
         mlog = os.path.join(rundir, "meshlab.log")
         text = open(log, errors="replace").read()
         if os.path.isfile(mlog):
             text = open(mlog, errors="replace").read() + "\n" + text
-        out_error = check_pipeline(rundir, entry) if rc == 0 else ""
+        out_error = check_pipeline(rundir, entry, budget) if rc == 0 else ""
     else:
         out = os.path.join(rundir, "out.ply")
         rc = run([os.path.join(REPO, "scripts", "meshlabserver.sh"), "-i", inp, "-o", out, "-m"] + SAVE_MASK[flt] +

@@ -1328,6 +1328,7 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
       unproj = gUnproj;
       r = std::move(g);
     }
+    r.coverageOutOfRoom = excess(rms, unproj) > 1 && 2 * target > maxPatches;
     return r;
   };
   const bool equalized = params.layout == QuadSimplifyParams::Layout::Equalized;
@@ -1468,8 +1469,10 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
 // refined at edge midpoints (the same surface, x4 triangles; up to twice, while under
 // kMaxRefinedStartFaces), and the finer start's cage kept when, fitted, it is closer to the input.
 // rotor.off (1 200 long CAD triangles, 599 pairs) stopped at 515 patches whose interpolating limit
-// was 45 per mille from the part (40 after the fit, 21 displaced). Not when the coverage guard
-// runs out of room (it could ask for ever more patches: b9_mesh went from 1 836 to 7 696).
+// was 45 per mille from the part (40 after the fit, 21 displaced). The same when the coverage
+// guard ran out of room (it could not double the patches) with the limit that far off
+// (oblong-shuffled: 230 patches, 76 per mille); not for the guard's unreached area alone (b9_mesh,
+// limit 2.6 per mille from the input, went from 1 836 to 7 696 patches).
 QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
                                    vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
@@ -1489,7 +1492,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     return x.layoutRms;
   };
   auto needsFiner = [&](QuadSimplifyResult& x, const TriData& st) {
-    return params.startRmsPermille > 0 && 4L * x.patches > long(st.F.size()) &&
+    return params.startRmsPermille > 0 && (4L * x.patches > long(st.F.size()) || x.coverageOutOfRoom) &&
            layoutRms(x) > params.startRmsPermille / 1000.0 * diag;
   };
   for (int k = 0; k < 2 && 4L * long(start->F.size()) <= kMaxRefinedStartFaces && needsFiner(r, *start); ++k) {

@@ -87,11 +87,12 @@ struct QuadSimplifyParams {
   /// low: the corpus disk's 5-patch cage leaves 9.9 % (docs/robustness.md "Flat and open
   /// shapes"). Half the report's 1 % warning level. 0 = off.
   double coverageUnprojectablePct = 0.5;
-  /// Equalized, no budget: a cage that keeps more than half of its start mesh's quads (the start's
-  /// resolution, not the Fitmaps, decided it) and whose interpolating limit stays farther than
-  /// this from the input (RMS, 1/1000 of the bbox diagonal) is simplified again from its start
-  /// refined at edge midpoints (SimplifyToQuads; docs/quad.md "A start too coarse"). The filter
-  /// sets 10 tau (tau itself); 0 = off.
+  /// Equalized, no budget: a cage that keeps more than half of its start mesh's quads (the
+  /// start's resolution, not the Fitmaps, decided it) or that the coverage guard could not
+  /// enlarge, and whose interpolating limit stays farther than this from the input (RMS, 1/1000
+  /// of the bbox diagonal), is simplified again from its start refined at edge midpoints
+  /// (SimplifyToQuads; docs/quad.md "A start too coarse"). The filter sets 10 tau (tau itself);
+  /// 0 = off.
   double startRmsPermille = 10;
   /// Equalized: the count pass starts from the start mesh decimated to this many triangles
   /// (larger start meshes only; the count moves by ~2 % between 10k and 40k on bunny00).
@@ -177,6 +178,9 @@ struct QuadSimplifyResult {
   double coverageFromRms = 0;
   double coverageFromUnprojectablePct = 0;  ///< that cage's unprojectable share (%)
   double layoutUnprojectablePct = -1;       ///< the kept cage's (guard on; -1: not measured)
+  /// The coverage guard still fired on the kept cage and could not double its patches (half the
+  /// start's quads): the start bounds it.
+  bool coverageOutOfRoom = false;
   /// The start was refined at edge midpoints this many times (startRmsPermille; SimplifyToQuads),
   /// and the patches of the coarser start's cage (0: not refined).
   int startRefinements = 0;
