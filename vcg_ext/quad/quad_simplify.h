@@ -225,6 +225,11 @@ struct QuadSimplifyResult {
 ///               from (tri-to-quad and the initial interpolation use its vertices); every
 ///               projection, the M-fitmap test and the S cost still refer to `input` (M).
 ///               nullptr = `input` itself. Not together with initialQuads.
+/// Beyond the paper (docs/quad.md): with a budget (targetPatches) the layout pass alone and, when
+/// the guards stop it above the budget, the budget ladder (a looser guard, a start decimated to
+/// 4 x the budget, each retry judged by its fitted limit); without one, the paper's count laid out
+/// by the S-fitmap (Layout::Equalized), the coverage guard, and a start too coarse for the input
+/// refined at edge midpoints (startRmsPermille).
 /// Errors: empty input, size mismatches, non-finite fitmaps, non-manifold input (reports the
 /// number of non-manifold edges and vertices). A mesh too small to simplify returns its pure-quad
 /// mesh with `message` set. Cost: roughly O(F log F) collapses, each O(1) local work
