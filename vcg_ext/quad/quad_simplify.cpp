@@ -143,12 +143,18 @@ struct FaceInfo {
 
 // The layout pass's patch target while the count pass that sets it runs on another thread
 // (Layout::Equalized, docs/quad.md "Layout": the two passes overlap). Until the count is known the
-// layout pass goes on down to `floor`, a bound no count can exceed without a recount (which
-// cancels the layout pass: it is redone after the recount), and waits there.
+// layout pass goes on down to `floor`, a bound the count cannot exceed, and waits there. The
+// layout pass stops at the first count <= its target, so a floor is valid while no step of the
+// layout pass has started at or below the count; a count above the floor cancels the layout pass
+// (it is redone after the count). A count pass that must recount on the real start mesh raises the
+// floor towards a bound of its recount (RaiseFloor).
 class LayoutGate {
  public:
   explicit LayoutGate(int floor) : floor_(floor) {}
-  int Floor() const { return floor_; }
+  int Floor() const {
+    std::lock_guard<std::mutex> g(m_);
+    return floor_;
+  }
   /// 0: not known yet; > 0: the target; < 0: cancelled.
   int Target() const { return target_.load(std::memory_order_acquire); }
   void Set(int target) {
@@ -158,19 +164,35 @@ class LayoutGate {
     }
     cv_.notify_all();
   }
-  /// Blocks until the target is known (or cancelled); adds the time waited to `waited`.
-  int Wait(double* waited) {
-    const auto t0 = std::chrono::steady_clock::now();
+  /// Called by the layout pass before each step from `count` patches: the target (0: not known
+  /// yet); blocks while the count is at or below the floor and the target is not known, adding
+  /// the time waited to `waited`.
+  int Admit(int count, double* waited) {
+    int t = Target();
+    if (t != 0) return t;
     std::unique_lock<std::mutex> l(m_);
-    cv_.wait(l, [this] { return target_.load(std::memory_order_acquire) != 0; });
-    *waited += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return target_.load(std::memory_order_acquire);
+    if (count <= floor_ && target_.load(std::memory_order_acquire) == 0) {
+      const auto t0 = std::chrono::steady_clock::now();
+      cv_.wait(l, [this] { return target_.load(std::memory_order_acquire) != 0; });
+      *waited += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    t = target_.load(std::memory_order_acquire);
+    if (t == 0) lowestStep_ = count;  // a step starts from `count`
+    return t;
+  }
+  /// Raises the floor towards `floor`: up to just below the count the layout pass's latest step
+  /// started from (a higher floor would not bound what it has already passed), so a layout pass
+  /// already below `floor` stops where it is.
+  void RaiseFloor(int floor) {
+    std::lock_guard<std::mutex> g(m_);
+    floor_ = std::max(floor_, std::min(floor, lowestStep_ - 1));
   }
 
  private:
-  const int floor_;
+  int floor_;
+  int lowestStep_ = std::numeric_limits<int>::max();  // the count the layout pass's latest step started from
   std::atomic<int> target_{0};
-  std::mutex m_;
+  mutable std::mutex m_;
   std::condition_variable cv_;
 };
 
@@ -722,8 +744,7 @@ class Simplifier {
     checkThreads_ = threadsFor(mode.Parallel());
     while (!heap_.empty()) {
       if (gate) {
-        int t = gate->Target();
-        if (t == 0 && K.NumFaces() <= gate->Floor()) t = gate->Wait(&gateWait);
+        const int t = gate->Admit(K.NumFaces(), &gateWait);
         if (t < 0) { cancelled = true; return true; }
         if (t > 0 && K.NumFaces() <= t) break;
       }
@@ -1355,13 +1376,16 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
   cp.valenceWeight = 0;  // the paper's count
   QuadSimplifyResult c;
   bool counted = false;        // c holds the count pass on `coarse` (or its error)
+  bool recounted = false;      // c holds the count pass on `start` (the worker's recount)
   double countOverlap = 0;     // seconds of the count pass hidden behind the layout pass
   // The two passes overlap (docs/quad.md "Layout"): the layout pass needs the count only at its
   // end, so with a coarse count start and two threads the count pass (decimation included) runs
   // on a second thread with serial checks while the layout pass runs here, going on down to the
   // largest count that needs no recount (countFaces / 16) and waiting there for the count. A
-  // count that needs a recount (or an error) cancels it; then all runs in sequence as before.
-  // The cages are the same as in sequence (no step depends on the threads).
+  // count that needs a recount raises that floor to recountFloorFactor x itself (or to where the
+  // layout pass is, if lower) and recounts on the second thread too; a recount above the floor or
+  // an error cancels the layout pass, and the rest runs in sequence. The cages are the same as in
+  // sequence (no step depends on the threads).
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();
@@ -1379,8 +1403,17 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
         if (coarse.decimated) {
           c = SimplifyOnce(input, coarse.mesh, scene, S, M, wcp, Progress(nullptr), initialQuads);
           counted = true;
-          // (a count above the floor would find the layout pass below it: cancelled, as a recount)
-          if (c.error.empty() && 16L * c.patches <= long(coarse.mesh.F.size()) && c.patches <= gate.Floor())
+          // A count the coarse start bounds is counted again on the real start, here, while the
+          // layout pass goes on down to a bound of the recount (recountFloorFactor x the coarse
+          // count) or, when it is already below that, waits where it is.
+          if (c.error.empty() && 16L * c.patches > long(coarse.mesh.F.size())) {
+            gate.RaiseFloor(params.recountFloorFactor * c.patches);
+            c = SimplifyOnce(input, start, scene, S, M, wcp, Progress(nullptr), initialQuads);
+            recounted = true;
+          }
+          // (a count above the floor would find the layout pass below it: cancelled)
+          if (c.error.empty() && (recounted || 16L * c.patches <= long(coarse.mesh.F.size())) &&
+              c.patches <= gate.Floor())
             target = std::max(1, c.patches);
         }
       } catch (const std::exception& e) {
@@ -1424,8 +1457,8 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
   }
   // A count above 1/16 of the coarse start's triangles (its quads reduced less than 8x) is bounded
   // by that start's resolution: count again on the real start mesh.
-  const bool recount = &countStart != &start && 16L * c.patches > long(countStart.F.size());
-  if (recount) {
+  const bool recount = recounted || (&countStart != &start && 16L * c.patches > long(countStart.F.size()));
+  if (recount && !recounted) {
     c = SimplifyOnce(input, start, scene, S, M, cp, prog.Sub(0, 30), initialQuads);
     if (!c.error.empty()) return c;
   }
