@@ -436,8 +436,10 @@ TEST(QuadSimplify, EqualizedLayoutSpendsThePaperCountByTheSFitmap) {
 // at countFaces / 16 patches until the count is known). The cage must be the sequential run's bit
 // for bit (ParallelChecks::Never runs the two passes in sequence), the count pass must really
 // have overlapped, and a count too high for the coarse start (a recount on the real start mesh)
-// must overlap the layout pass too (its floor raised to recountFloorFactor x the coarse count) or,
-// with the factor 0 (a floor the recount exceeds), cancel it: the sequential result either way.
+// must overlap the layout pass too (its floor raised to recountFloorFactor x the coarse count, then
+// following the recount's live count), also with the factor 0 (the floor left below the recount:
+// whether the layout pass then outruns the recount and is cancelled depends on the timing; the
+// gate's own tests, layout_gate_test.cpp, spell both paths out): the sequential result always.
 TEST(QuadSimplify, CountPassBesideTheLayoutPassGivesTheSequentialCage) {
 #ifdef _OPENMP
   if (omp_get_max_threads() < 2) GTEST_SKIP() << "one thread: no second thread for the count pass";
@@ -471,10 +473,9 @@ TEST(QuadSimplify, CountPassBesideTheLayoutPassGivesTheSequentialCage) {
     } else {
       EXPECT_GT(ro.countPatches, countFaces / 16);       // the coarse count asked for a recount
       EXPECT_EQ(ro.countStartFaces, int(t.F.size()));  // recounted on the real start mesh
-      if (floorFactor > 0)
+      if (floorFactor > 0) {
         EXPECT_GT(ro.secondsCountOverlapped, 0.0);  // beside the layout pass
-      else
-        EXPECT_EQ(ro.secondsCountOverlapped, 0.0);  // the overlapped layout was cancelled
+      }
     }
   }
 }
@@ -528,6 +529,10 @@ TEST(QuadSimplify, ThreadCountDoesNotChangeTheResult) {
   std::vector<double> S, M;
   SyntheticFitmaps(t, S, M);
   vcgext::QuadSimplifyParams p;
+  // the paper's halting: one pass, whose every step has the parallel checks with Always (in the
+  // equalized layout the count pass runs beside the layout pass with serial checks, and its cage
+  // may be the one kept: CountPassBesideTheLayoutPassGivesTheSequentialCage)
+  p.layout = vcgext::QuadSimplifyParams::Layout::PaperHalting;
   const int before = omp_get_max_threads();
   omp_set_num_threads(1);
   auto r1 = vcgext::SimplifyToQuads(t, scene, S, M, p);

@@ -22,6 +22,7 @@
 #include "vcg_ext/core/progress.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/quad/cc_limit.h"
+#include "vcg_ext/quad/layout_gate.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/subdiv/limit_surface.h"
 
@@ -141,61 +142,6 @@ struct FaceInfo {
   double dist = 0;  ///< |phi(c) - c| (valid when hit >= 0)
 };
 
-// The layout pass's patch target while the count pass that sets it runs on another thread
-// (Layout::Equalized, docs/quad.md "Layout": the two passes overlap). Until the count is known the
-// layout pass goes on down to `floor`, a bound the count cannot exceed, and waits there. The
-// layout pass stops at the first count <= its target, so a floor is valid while no step of the
-// layout pass has started at or below the count; a count above the floor cancels the layout pass
-// (it is redone after the count). A count pass that must recount on the real start mesh raises the
-// floor towards a bound of its recount (RaiseFloor).
-class LayoutGate {
- public:
-  explicit LayoutGate(int floor) : floor_(floor) {}
-  int Floor() const {
-    std::lock_guard<std::mutex> g(m_);
-    return floor_;
-  }
-  /// 0: not known yet; > 0: the target; < 0: cancelled.
-  int Target() const { return target_.load(std::memory_order_acquire); }
-  void Set(int target) {
-    {
-      std::lock_guard<std::mutex> g(m_);
-      target_.store(target, std::memory_order_release);
-    }
-    cv_.notify_all();
-  }
-  /// Called by the layout pass before each step from `count` patches: the target (0: not known
-  /// yet); blocks while the count is at or below the floor and the target is not known, adding
-  /// the time waited to `waited`.
-  int Admit(int count, double* waited) {
-    int t = Target();
-    if (t != 0) return t;
-    std::unique_lock<std::mutex> l(m_);
-    if (count <= floor_ && target_.load(std::memory_order_acquire) == 0) {
-      const auto t0 = std::chrono::steady_clock::now();
-      cv_.wait(l, [this] { return target_.load(std::memory_order_acquire) != 0; });
-      *waited += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    t = target_.load(std::memory_order_acquire);
-    if (t == 0) lowestStep_ = count;  // a step starts from `count`
-    return t;
-  }
-  /// Raises the floor towards `floor`: up to just below the count the layout pass's latest step
-  /// started from (a higher floor would not bound what it has already passed), so a layout pass
-  /// already below `floor` stops where it is.
-  void RaiseFloor(int floor) {
-    std::lock_guard<std::mutex> g(m_);
-    floor_ = std::max(floor_, std::min(floor, lowestStep_ - 1));
-  }
-
- private:
-  int floor_;
-  int lowestStep_ = std::numeric_limits<int>::max();  // the count the layout pass's latest step started from
-  std::atomic<int> target_{0};
-  mutable std::mutex m_;
-  std::condition_variable cv_;
-};
-
 class Simplifier {
  public:
   // `start`: the mesh the control mesh starts from (M' of §4, or `in` itself); its vertices are
@@ -225,7 +171,8 @@ class Simplifier {
   }
   bool Pinned(int v) const { return v < int(pinned_.size()) && pinned_[v]; }
 
-  LayoutGate* gate = nullptr;  ///< set: the target comes from the count pass beside this one
+  quad::LayoutGate* gate = nullptr;  ///< set: the target comes from the count pass beside this one
+  quad::LayoutGate* publishTo = nullptr;  ///< set: this is that count pass, on the layout pass's start
   bool cancelled = false;      ///< the gate cancelled this pass (Run returned early)
   double gateWait = 0;         ///< seconds this pass waited for the count
 
@@ -743,6 +690,7 @@ class Simplifier {
     };
     checkThreads_ = threadsFor(mode.Parallel());
     while (!heap_.empty()) {
+      if (publishTo) publishTo->Publish(K.NumFaces());
       if (gate) {
         const int t = gate->Admit(K.NumFaces(), &gateWait);
         if (t < 0) { cancelled = true; return true; }
@@ -954,7 +902,8 @@ std::string CheckInputs(const TriData& input, const TriData& start, const Embree
 QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress prog, const std::vector<Quad>* initialQuads,
-                                LayoutGate* gate = nullptr, bool* cancelled = nullptr, double* gateWait = nullptr) {
+                                quad::LayoutGate* gate = nullptr, bool* cancelled = nullptr, double* gateWait = nullptr,
+                                quad::LayoutGate* publishTo = nullptr) {
   QuadSimplifyResult res;
   const auto t0 = Clock::now();
   const int nv = int(input.V.size());
@@ -998,6 +947,7 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
   } else {
     Progress sub = prog.Sub(10, 95);
     sim.gate = gate;
+    sim.publishTo = publishTo;
     const bool ok = sim.Run(sub);
     if (gateWait) *gateWait = sim.gateWait;
     if (sim.cancelled) {
@@ -1375,46 +1325,55 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
   cp.layout = QuadSimplifyParams::Layout::PaperHalting;
   cp.valenceWeight = 0;  // the paper's count
   QuadSimplifyResult c;
-  bool counted = false;        // c holds the count pass on `coarse` (or its error)
-  bool recounted = false;      // c holds the count pass on `start` (the worker's recount)
+  bool counted = false;        // c holds the count pass (or its error)
+  bool recounted = false;      // c holds the count pass on `start` after one on `coarse` (the worker's recount)
   double countOverlap = 0;     // seconds of the count pass hidden behind the layout pass
   // The two passes overlap (docs/quad.md "Layout"): the layout pass needs the count only at its
-  // end, so with a coarse count start and two threads the count pass (decimation included) runs
-  // on a second thread with serial checks while the layout pass runs here, going on down to the
-  // largest count that needs no recount (countFaces / 16) and waiting there for the count. A
-  // count that needs a recount raises that floor to recountFloorFactor x itself (or to where the
-  // layout pass is, if lower) and recounts on the second thread too; a recount above the floor or
-  // an error cancels the layout pass, and the rest runs in sequence. The cages are the same as in
-  // sequence (no step depends on the threads).
+  // end, so with two threads the count pass (decimation included) runs on a second thread with
+  // serial checks while the layout pass runs here (quad::LayoutGate). On a coarse count start the
+  // layout pass goes on down to the largest count that needs no recount (countFaces / 16) and
+  // waits there for the count; a count that needs a recount raises that floor to
+  // recountFloorFactor x itself (or to where the layout pass is, if lower) and recounts on the
+  // second thread too. A count on the layout pass's own start (a small start, or the recount)
+  // lets the layout pass go on while it stays above that pass's live count. A count below a step
+  // the layout pass has taken, or an error, cancels it, and the rest runs in sequence. The cages
+  // are the same as in sequence (no step depends on the threads).
   int threads = 1;
 #ifdef _OPENMP
   threads = omp_get_max_threads();
 #endif
-  if (decimate && threads >= 2 && params.parallelChecks != QuadSimplifyParams::ParallelChecks::Never) {
-    LayoutGate gate(std::max(1, params.countFaces / 16));
+  if (threads >= 2 && params.parallelChecks != QuadSimplifyParams::ParallelChecks::Never) {
+    // (no floor on the count's own start: only its live count lets the layout pass go on)
+    quad::LayoutGate gate(decimate ? std::max(1, params.countFaces / 16) : std::numeric_limits<int>::max());
     double countWall = 0;
     std::thread worker([&] {
       const auto w0 = Clock::now();
       int target = -1;
       try {
-        decimateCountStart();
         QuadSimplifyParams wcp = cp;
         wcp.parallelChecks = QuadSimplifyParams::ParallelChecks::Never;
-        if (coarse.decimated) {
-          c = SimplifyOnce(input, coarse.mesh, scene, S, M, wcp, Progress(nullptr), initialQuads);
+        if (!decimate) {
+          c = SimplifyOnce(input, start, scene, S, M, wcp, Progress(nullptr), initialQuads, nullptr, nullptr, nullptr,
+                           &gate);
           counted = true;
-          // A count the coarse start bounds is counted again on the real start, here, while the
-          // layout pass goes on down to a bound of the recount (recountFloorFactor x the coarse
-          // count) or, when it is already below that, waits where it is.
-          if (c.error.empty() && 16L * c.patches > long(coarse.mesh.F.size())) {
-            gate.RaiseFloor(params.recountFloorFactor * c.patches);
-            c = SimplifyOnce(input, start, scene, S, M, wcp, Progress(nullptr), initialQuads);
-            recounted = true;
+          if (c.error.empty()) target = std::max(1, c.patches);
+        } else {
+          decimateCountStart();
+          if (coarse.decimated) {
+            c = SimplifyOnce(input, coarse.mesh, scene, S, M, wcp, Progress(nullptr), initialQuads);
+            counted = true;
+            // A count the coarse start bounds is counted again on the real start, here, while the
+            // layout pass goes on down to a bound of the recount (recountFloorFactor x the coarse
+            // count) or, when it is already below that, waits where it is, and then follows the
+            // recount's live count.
+            if (c.error.empty() && 16L * c.patches > long(coarse.mesh.F.size())) {
+              gate.RaiseFloor(params.recountFloorFactor * c.patches);
+              c = SimplifyOnce(input, start, scene, S, M, wcp, Progress(nullptr), initialQuads, nullptr, nullptr,
+                               nullptr, &gate);
+              recounted = true;
+            }
+            if (c.error.empty()) target = std::max(1, c.patches);
           }
-          // (a count above the floor would find the layout pass below it: cancelled)
-          if (c.error.empty() && (recounted || 16L * c.patches <= long(coarse.mesh.F.size())) &&
-              c.patches <= gate.Floor())
-            target = std::max(1, c.patches);
         }
       } catch (const std::exception& e) {
         c = QuadSimplifyResult();

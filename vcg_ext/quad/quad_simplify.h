@@ -99,9 +99,9 @@ struct QuadSimplifyParams {
   int countFaces = 10000;
   /// Equalized, two threads: a count the coarse start bounds (above countFaces / 16) is counted
   /// again on the real start mesh beside the layout pass, which goes on down to this many times
-  /// the coarse count (or stops where it is, if already lower) and waits there for the recount;
-  /// a recount above that floor redoes the layout pass after it. The cage does not depend on it
-  /// (only the time). 0: a recount always redoes the layout pass (before 2026-12-03).
+  /// the coarse count (or stops where it is, if already lower) and from there follows the
+  /// recount's live count; a recount above a step the layout pass took redoes the layout pass
+  /// after it. The cage does not depend on it, only the time (docs/quad.md "Layout").
   int recountFloorFactor = 2;
   /// Regularity (issue 13, docs/quad.md "Regularity"): in the equalized layout pass (and under
   /// a budget) a collapse's S cost is multiplied by (1 + valenceWeight)^d, d the change of the
