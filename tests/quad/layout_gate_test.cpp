@@ -14,12 +14,17 @@ namespace {
 using vcgext::quad::LayoutGate;
 using namespace std::chrono_literals;
 
-// Admit on another thread; `blocked` tells whether it is still waiting after 100 ms.
+// Admit on another thread, which is waiting at `count` (or has returned) when the constructor
+// returns; Blocked() tells whether it is still waiting 100 ms later.
 struct AdmitOnThread {
   std::future<int> result;
   double waited = 0;
   AdmitOnThread(LayoutGate& g, int count) {
     result = std::async(std::launch::async, [&g, count, this] { return g.Admit(count, &waited); });
+    const auto t0 = std::chrono::steady_clock::now();
+    while (g.WaitingAt() != count && result.wait_for(1ms) == std::future_status::timeout &&
+           std::chrono::steady_clock::now() - t0 < 10s) {
+    }
   }
   bool Blocked() { return result.wait_for(100ms) == std::future_status::timeout; }
 };

@@ -65,6 +65,11 @@ class LayoutGate {
     }
     cv_.notify_all();
   }
+  /// The count the layout pass is waiting at (0: not waiting).
+  int WaitingAt() const {
+    std::lock_guard<std::mutex> g(m_);
+    return waitingAt_;
+  }
   /// The live patch count of a count pass on the layout pass's own start mesh.
   void Publish(int count) {
     bool wake = false;
@@ -83,7 +88,7 @@ class LayoutGate {
   int lowestStep_ = std::numeric_limits<int>::max();  // the count the layout pass's latest step started from
   int waitingAt_ = 0;                                   // the count the layout pass waits at (0: not waiting)
   std::atomic<int> target_{0};
-  std::mutex m_;
+  mutable std::mutex m_;
   std::condition_variable cv_;
 };
 

@@ -168,7 +168,9 @@ struct QuadSimplifyResult {
   int patches = 0;
   int countPatches = 0;            ///< Layout::Equalized: the paper's halting count (0: no count pass)
   int countStartFaces = 0;         ///< Layout::Equalized: triangles of the count pass's start mesh
-  double secondsCount = 0;         ///< Layout::Equalized: wall time the count pass added (in secondsTotal)
+  /// Layout::Equalized: wall time the count pass added (in secondsTotal); when the count pass's
+  /// cage is kept (keptPaperLayout), the time the other passes added, beside it or after it
+  double secondsCount = 0;
   /// Layout::Equalized: seconds of the count pass that ran beside the layout pass on a second
   /// thread (not in secondsTotal; its whole time is secondsCount + this)
   double secondsCountOverlapped = 0;
