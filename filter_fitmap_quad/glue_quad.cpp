@@ -239,12 +239,13 @@ bool ApplyQuad(GlueContext& ctx) {
                                        std::to_string(r.paperLayoutRms * pm) + " per mille"
                                  : std::string())
         << "; the M-fitmap refusals above are the counting pass's)";
-    if (r.keptPaperLayout)
+    if (r.keptPaperLayout) {
       c << "; the other passes (the equalized layout, a coarse count) added " << r.secondsCount << " s";
-    else
+    } else {
       c << "; the count pass took " << r.secondsCount + r.secondsCountOverlapped << " s";
-    if (!r.keptPaperLayout && r.secondsCountOverlapped > 0)
-      c << " (" << r.secondsCountOverlapped << " s of it on a second thread beside the layout pass)";
+      if (r.secondsCountOverlapped > 0)
+        c << " (" << r.secondsCountOverlapped << " s of it on a second thread beside the layout pass)";
+    }
     ctx.log(c.str());
   }
   ctx.Value("coverage_relayouts", r.coverageRelayouts);
