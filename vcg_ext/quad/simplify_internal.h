@@ -1,0 +1,98 @@
+#pragma once
+/// \file simplify_internal.h
+/// The pieces SimplifyToQuads (quad_simplify.cpp) is built from, one concept per file:
+/// - simplifier.cpp: one simplification pass (§3.2–3.4: tri-to-quad, interpolation, collapses
+///   with local fit until the pass's halting, final checks);
+/// - equalized_layout.cpp: the default layout (the paper's count pass beside the S-cost layout
+///   pass, docs/quad.md "Layout");
+/// - budget_ladder.cpp: a patch budget and its retries (docs/quad.md "Budget ladder");
+/// - coverage.cpp: how closely a cage's limit follows the input, and the coverage guard.
+/// Not part of the public API.
+#include <chrono>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "vcg_ext/core/embree_scene.h"
+#include "vcg_ext/core/progress.h"
+#include "vcg_ext/quad/layout_gate.h"
+#include "vcg_ext/quad/quad_simplify.h"
+
+namespace vcgext {
+namespace simplify_internal {
+
+using Clock = std::chrono::steady_clock;
+inline double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// Adds a note to a result's message ("; "-separated).
+void AppendMessage(std::string& message, const std::string& note);
+
+/// One simplification (§3.2-3.4) of checked inputs: tri-to-quad (or the given quads) of `start`,
+/// interpolation, collapses until the halting of `params`, final checks. With a `gate`, the pass
+/// is the layout pass of an overlapped count (quad::LayoutGate: `cancelled`, `gateWait`); with
+/// `publishTo`, it is a count pass that publishes its live patch count there.
+QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, const EmbreeScene& scene,
+                                const std::vector<double>& S, const std::vector<double>& M,
+                                const QuadSimplifyParams& params, Progress prog, const std::vector<Quad>* initialQuads,
+                                quad::LayoutGate* gate = nullptr, bool* cancelled = nullptr, double* gateWait = nullptr,
+                                quad::LayoutGate* publishTo = nullptr);
+
+/// How closely the interpolating limit of cage `q` follows the input, on a 6 x 6 tessellation per
+/// patch: `rms`, the RMS distance from (every k-th of at most ~100k) input vertices to it (to
+/// choose between two layouts); with `area`, `unreachedPct`, the share (%) of the input's area
+/// (~20k triangles, area-weighted) lying wholly beyond the limit's outline: their points' closest
+/// limit points are on the limit's boundary and not along the normal there, so no normal line
+/// from the limit reaches them (the paper's projectability, §3.4; an open cage's boundary curve
+/// cuts the input's rim, or a flat cage stops short of it). Lateral offsets up to 0.2 per
+/// mille of the diagonal or 20 % of the distance (the tessellation's facets: 11 degrees) count as
+/// along the normal; the absolute part is the narrowest band beyond the outline that is seen.
+/// Infinity / 100 % if the limit cannot be evaluated.
+struct Coverage {
+  double rms = std::numeric_limits<double>::infinity();
+  double unreachedPct = 100.0;
+};
+Coverage InterpolationCoverage(const TriData& input, const QuadData& q, bool area);
+
+/// RMS distance of the input's vertices to the interpolating limit of cage q (InterpolationCoverage).
+double InterpolationRms(const TriData& input, const QuadData& q);
+
+/// RMS distance of the input's vertices to the limit of cage q after the final fit's least squares
+/// (FitCatmullClark, default parameters: what the pipeline's next filter does), absolute; infinite
+/// when the fit fails.
+double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
+
+/// The coverage guard (QuadSimplifyParams::coverageRmsPermille, coverageUnprojectablePct): a
+/// cage `r` (simplified from `start`) whose interpolating limit leaves the input, or leaves part
+/// of it unreached by projection, is laid out again with twice the patches.
+QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, const EmbreeScene& scene,
+                                 const std::vector<double>& S, const std::vector<double>& M,
+                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads,
+                                 QuadSimplifyResult r);
+
+/// The default layout (QuadSimplifyParams::Layout::Equalized with the M-fitmap, no budget;
+/// docs/quad.md "Layout"): the paper's count pass, the S-cost layout pass down to its count (the
+/// two overlapped on two threads), and the closer of the two cages when the count ran on `start`.
+/// The result before the coverage guard, or an error.
+QuadSimplifyResult EqualizedLayout(const TriData& input, const TriData& start, const EmbreeScene& scene,
+                                   const std::vector<double>& S, const std::vector<double>& M,
+                                   const QuadSimplifyParams& params, Progress& prog,
+                                   const std::vector<Quad>* initialQuads);
+
+/// The layout pass: S-cost order without the M test, down to `patches`.
+QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int patches);
+
+/// A budget of N patches (QuadSimplifyParams::targetPatches, Equalized): the layout pass alone,
+/// then a ladder of retries while the thin-part guard (and the flip check) stop it above N + 2 %
+/// (docs/quad.md "Budget ladder"). Each retry is kept only when it comes closer to N (a collapse on
+/// a thin tube can cascade through the doublets it leaves and land far below it) and covers the
+/// input about as well as the first pass (RetryCoversAsWell):
+///  1. the guard's tolerance doubled (fandisk at 200 patches: 251 -> 200). Once only: at 4x the
+///     tolerance elephant reached 200 patches with 10 % of its area unprojectable;
+///  2. a start decimated to 4 N triangles (2 N quads), the guard as given, then doubled: on the
+///     working start the guard keeps every finger of man's fist apart (1 788 patches for 400).
+QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, const EmbreeScene& scene,
+                                const std::vector<double>& S, const std::vector<double>& M,
+                                const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads);
+
+}  // namespace simplify_internal
+}  // namespace vcgext
