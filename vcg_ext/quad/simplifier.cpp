@@ -372,19 +372,15 @@ class Simplifier {
     return code;
   }
 
-  // One simplification step: collapse + doublets + swaps + local fit, or nothing.
-  // Returns 0 = done, 1 = topology refusal, 2 = flip refusal, 3 = geometric guard refusal.
-  int Step(int f, int k) {
-    K.Begin();
-    int b = K.F[f][k + 1], d = K.F[f][(k + 3) & 3];
-    int s = -1;
-    OpResult r = K.CollapseDiagonal(f, k, &s);
-    if (r != OpResult::Ok) { K.Rollback(); return 1; }
-    std::vector<int> affected{s, b, d};
+  // What a step's operators did (counted in the result when the step is committed).
+  struct StepCounts {
     int doublets = 0, swaps = 0, corners = 0;
-    // immediate doublet removal (cascading); boundary corners on flat stretches of the boundary
-    // are removed likewise (RemoveBoundaryCorner), which is what coarsens open boundaries
-    std::vector<int> dq{b, d, s};
+  };
+
+  // Immediate doublet removal after a collapse (cascading from the vertices in dq); boundary
+  // corners on flat stretches of the boundary are removed likewise (RemoveBoundaryCorner), which
+  // is what coarsens open boundaries. False: an operator failed (the step must be rolled back).
+  bool RemoveDoubletsAndCorners(std::vector<int> dq, std::vector<int>& affected, StepCounts& n) {
     int guard = 0;
     while (!dq.empty() && ++guard < 1000) {
       int v = dq.back();
@@ -393,8 +389,8 @@ class Simplifier {
       if (!K.IsBoundary(v) && K.VF(v).size() == 2) {
         int f1 = K.VF(v)[0], k1 = K.CornerOf(f1, v);
         int na = K.F[f1][(k1 + 1) & 3], nb = K.F[f1][(k1 + 3) & 3];
-        if (K.RemoveDoublet(v) != OpResult::Ok) { K.Rollback(); return 1; }
-        ++doublets;
+        if (K.RemoveDoublet(v) != OpResult::Ok) return false;
+        ++n.doublets;
         for (int x : {na, nb}) { dq.push_back(x); affected.push_back(x); }
       } else if (K.IsBoundary(v) && K.VF(v).size() == 1 && p_.boundaryCornerAngleDeg > 0) {
         int f1 = K.VF(v)[0], k1 = K.CornerOf(f1, v);
@@ -407,47 +403,47 @@ class Simplifier {
         int keep = Pinned(a) ? 1 : Pinned(c) ? 2 : 0;
         int surv = -1;
         if (K.RemoveBoundaryCorner(v, &surv, keep) != OpResult::Ok) continue;  // allowed to stay
-        ++corners;
+        ++n.corners;
         for (int x : {surv, o}) { dq.push_back(x); affected.push_back(x); }
       }
     }
-    // edge swaps in the 1-ring of the collapsed element
-    if (p_.edgeSwaps && K.VertAlive(s)) {
-      for (int pass = 0; pass < 4; ++pass) {
-        bool any = false;
-        std::vector<int> faces = K.VF(s);
-        for (int g : faces) {
-          for (int j = 0; j < 4; ++j) {
-            if (!K.FaceAlive(g)) break;
-            int best = 0, bestVar = -1;
-            for (int var = 0; var < 2; ++var) {
-              int dlt;
-              if (K.SwapEnergyDelta(g, j, var, &dlt) && dlt < best) { best = dlt; bestVar = var; }
-            }
-            if (bestVar < 0) continue;
-            int h = K.AcrossEdge(g, j);
-            Quad before_g = K.F[g], before_h = K.F[h];
-            if (K.SwapEdge(g, j, bestVar) == OpResult::Ok) {
-              ++swaps;
-              any = true;
-              for (int x : before_g) affected.push_back(x);
-              for (int x : before_h) affected.push_back(x);
-            }
+    return true;
+  }
+
+  // Edge swaps in the 1-ring of the collapsed element's survivor s, while some strictly lowers
+  // the valence energy (at most 4 passes).
+  void SwapAround(int s, std::vector<int>& affected, StepCounts& n) {
+    for (int pass = 0; pass < 4; ++pass) {
+      bool any = false;
+      std::vector<int> faces = K.VF(s);
+      for (int g : faces) {
+        for (int j = 0; j < 4; ++j) {
+          if (!K.FaceAlive(g)) break;
+          int best = 0, bestVar = -1;
+          for (int var = 0; var < 2; ++var) {
+            int dlt;
+            if (K.SwapEnergyDelta(g, j, var, &dlt) && dlt < best) { best = dlt; bestVar = var; }
+          }
+          if (bestVar < 0) continue;
+          int h = K.AcrossEdge(g, j);
+          Quad before_g = K.F[g], before_h = K.F[h];
+          if (K.SwapEdge(g, j, bestVar) == OpResult::Ok) {
+            ++n.swaps;
+            any = true;
+            for (int x : before_g) affected.push_back(x);
+            for (int x : before_h) affected.push_back(x);
           }
         }
-        if (!any) break;
       }
+      if (!any) break;
     }
-    std::vector<int> W;
-    CollectRing(affected, W);
-    workUnits_ += long(W.size());  // the step's size (with the checked elements below)
-    LocalFit(W);
-    memo_.Reset();  // positions and connectivity are frozen from here to Commit/Rollback
-    for (auto& m : threadMemos_) m.Reset();
-    // flip test on everything whose limit changed: vertices of ring1(W) (their limit normal
-    // depends on their 1-ring) and the faces incident to them (centre limit depends on the
-    // corners' 1-rings); refused if an element that agreed with the input does not now (all
-    // elements are evaluated, the first failure in this order gives the refusal code)
+  }
+
+  // The elements whose limit a step changed, for its flip test: R1_ = the vertices of ring1(W)
+  // (their limit normal depends on their 1-ring) and region_ = the faces incident to them (centre
+  // limit depends on the corners' 1-rings); vpTodo_ = the corners whose vertex points must be
+  // computed in this step (shared caches). Sequential.
+  void CollectCheckRegion(const std::vector<int>& W) {
     ++wmark_;
     for (size_t i = 0; i < W.size(); ++i) { wmarkOf_[W[i]] = wmark_; wIndex_[W[i]] = int(i); }
     CollectRing(W, R1_);
@@ -462,7 +458,6 @@ class Simplifier {
     newInfo_.resize(region_.size());
     regionTouchesW_.resize(region_.size());
     devOk_.resize(region_.size());
-    // Sequential part: which corners' vertex points to compute (shared caches).
     ++vpEpoch_;
     vpTodo_.clear();
     for (size_t i = 0; i < region_.size(); ++i) {
@@ -475,11 +470,15 @@ class Simplifier {
       }
       regionTouchesW_[i] = touchesW;
     }
-    // The checks only read shared state (each element writes its own result slots and its own
-    // side hint — a hint picks which ray answers a later query, so at most the rounding of that
-    // answer, and one element writes it —; each thread has its own memo), so they run in
-    // parallel (checkThreads_). Every check runs; the first failure in the sequential order
-    // decides the refusal code, exactly as the sequential loop would.
+  }
+
+  // The checks of a step on CollectCheckRegion's elements, into newVok_ / newVhit_ / newInfo_ /
+  // devOk_. They only read shared state (each element writes its own result slots and its own
+  // side hint — a hint picks which ray answers a later query, so at most the rounding of that
+  // answer, and one element writes it —; each thread has its own memo), so they run in parallel
+  // (checkThreads_). Every check runs; Verdict picks the first failure in the sequential order,
+  // exactly as the sequential loop would.
+  void RunChecks() {
 #pragma omp parallel num_threads(checkThreads_) if (checkThreads_ > 1 && R1_.size() + region_.size() >= 16)
     {
       const quad::QuadMemo& memo = ThreadMemo();
@@ -512,13 +511,22 @@ class Simplifier {
       for (int g : region_)
         for (int x : K.F[g])
           if (vmarkOf_[x] != vmark_ && !(vpc_[x] == quad::VertexPoint(K, x))) ++vpcStale_;
+  }
+
+  // The checks' verdict: 0 = pass; 2 = an element that agreed with the input does not now (flip);
+  // 3 = the geometric guard (the first failure in the sequential order gives the code).
+  int Verdict() const {
     for (size_t i = 0; i < R1_.size(); ++i)
-      if (vok_[R1_[i]] && !newVok_[i]) return Refuse(2);
+      if (vok_[R1_[i]] && !newVok_[i]) return 2;
     for (size_t i = 0; i < region_.size(); ++i) {
-      if (info_[region_[i]].ok && !newInfo_[i].ok) return Refuse(2);
-      if (!devOk_[i]) return Refuse(3);
+      if (info_[region_[i]].ok && !newInfo_[i].ok) return 2;
+      if (!devOk_[i]) return 3;
     }
-    CountStaleMemos();
+    return 0;
+  }
+
+  // Commits a checked step: the caches of its elements, their re-queued costs, the counts.
+  void CommitStep(const StepCounts& n) {
     K.Commit();
     for (int v : R1_) vpcOk_[v] = 0;  // their committed vertex points changed
     for (int g : region_)
@@ -528,17 +536,40 @@ class Simplifier {
     // re-queue faces whose cost may have changed
     for (int g : region_) Push(g);
     res_.collapses++;
-    res_.doublets += doublets;
-    res_.swaps += swaps;
-    res_.boundaryCorners += corners;
+    res_.doublets += n.doublets;
+    res_.swaps += n.swaps;
+    res_.boundaryCorners += n.corners;
+  }
+
+  // One simplification step: collapse + doublets + swaps + local fit, or nothing.
+  // Returns 0 = done, 1 = topology refusal, 2 = flip refusal, 3 = geometric guard refusal.
+  int Step(int f, int k) {
+    K.Begin();
+    int b = K.F[f][k + 1], d = K.F[f][(k + 3) & 3];
+    int s = -1;
+    OpResult r = K.CollapseDiagonal(f, k, &s);
+    if (r != OpResult::Ok) { K.Rollback(); return 1; }
+    std::vector<int> affected{s, b, d};
+    StepCounts n;
+    if (!RemoveDoubletsAndCorners({b, d, s}, affected, n)) { K.Rollback(); return 1; }
+    if (p_.edgeSwaps && K.VertAlive(s)) SwapAround(s, affected, n);
+    std::vector<int> W;
+    CollectRing(affected, W);
+    workUnits_ += long(W.size());  // the step's size (with the checked elements below)
+    LocalFit(W);
+    memo_.Reset();  // positions and connectivity are frozen from here to Commit/Rollback
+    for (auto& m : threadMemos_) m.Reset();
+    CollectCheckRegion(W);
+    RunChecks();
+    if (const int code = Verdict()) return Refuse(code);
+    CountStaleMemos();
+    CommitStep(n);
     return 0;
   }
 
-  bool Run(Progress& prog) {
-#ifdef _OPENMP
-    // at most 2: a step checks a few dozen to a few hundred elements, and 2 is what was measured
-    checkThreads_ = std::clamp(omp_get_max_threads(), 1, 2);
-#endif
+  // The caches of every element (projections, flip state, vertex points) on the initial mesh,
+  // and the heap with every face's cheaper diagonal.
+  void Initialize() {
     threadMemos_.assign(checkThreads_ - 1, quad::QuadMemo(K));
     const int nf = K.NumFaceSlots(), nv = K.NumVertexSlots();
     info_.assign(nf, FaceInfo());
@@ -567,6 +598,27 @@ class Simplifier {
     for (int f : alive) res_.initialFlippedPatches += info_[f].ok ? 0 : 1;
     for (int v = 0; v < nv; ++v) res_.initialFlippedVertices += vok_[v] ? 0 : 1;
     for (int f : alive) Push(f);
+  }
+
+  // Test mode, after a committed step: the mesh's invariants and the step's caches.
+  bool Validate(const QuadMesh::Invariants& inv) {
+    std::string err = K.Check(&inv);
+    if (err.empty() && vpcStale_ > 0) err = std::to_string(vpcStale_) + " stale cached vertex points";
+    if (err.empty() && memoStale_ > 0) err = std::to_string(memoStale_) + " stale memoized centroids/neighbours";
+    if (err.empty()) return true;
+    res_.error = "internal error: invalid mesh after collapse " + std::to_string(res_.collapses) + ": " + err;
+    return false;
+  }
+
+  // Steps in cost order (§3.3; the M test when the pass has it) until the heap is empty, the
+  // target is reached or the gate stops the pass (`cancelled`: the layout pass of an overlapped
+  // count whose count undercut it). False: test mode found an invalid state (res_.error).
+  bool Run(Progress& prog) {
+#ifdef _OPENMP
+    // at most 2: a step checks a few dozen to a few hundred elements, and 2 is what was measured
+    checkThreads_ = std::clamp(omp_get_max_threads(), 1, 2);
+#endif
+    Initialize();
     QuadMesh::Invariants inv;
     if (p_.validateEveryOperation) inv = K.ComputeInvariants();
     const int initial = K.NumFaces();
@@ -620,15 +672,7 @@ class Simplifier {
       if (r == 2) ++res_.rejectedFlip;
       if (r == 3) ++res_.rejectedDeviation;
       if (r != 0 && e.otherCost >= 0) heap_.push(MakeEntry(e.otherCost, e.f, 1 - e.k(), e.stamp(), -1.0));
-      if (p_.validateEveryOperation && r == 0) {
-        std::string err = K.Check(&inv);
-        if (err.empty() && vpcStale_ > 0) err = std::to_string(vpcStale_) + " stale cached vertex points";
-        if (err.empty() && memoStale_ > 0) err = std::to_string(memoStale_) + " stale memoized centroids/neighbours";
-        if (!err.empty()) {
-          res_.error = "internal error: invalid mesh after collapse " + std::to_string(res_.collapses) + ": " + err;
-          return false;
-        }
-      }
+      if (p_.validateEveryOperation && r == 0 && !Validate(inv)) return false;
       prog(100.0 * (initial - K.NumFaces()) / std::max(1, initial), "Quad simplification");
     }
     res_.parallelStepShare = steps > 0 ? double(parallelSteps) / steps : 0.0;
