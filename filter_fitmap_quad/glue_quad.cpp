@@ -77,11 +77,11 @@ vcgext::StartMeshParams BudgetStartParams(int workingFaces, int targetPatches, i
 }
 }  // namespace
 
-bool ApplyQuad(GlueContext& ctx) {
-  MeshModel& in = *ctx.md.mm();
-  const auto t0 = std::chrono::steady_clock::now();
-  vcgext::QuadSimplifyParams p;
-  const double tau = ctx.par.getFloat(param::kTau);
+namespace {
+// The filter's parameters as QuadSimplifyParams (and tau, the working resolution); false after
+// ctx.Fail on a value out of range.
+bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, int& workingFaces) {
+  tau = ctx.par.getFloat(param::kTau);
   p.targetPatches = ctx.par.getInt(param::kTargetPatches);
   p.useMFitmap = ctx.par.getBool(param::kUseMFitmap);
   p.layout = ctx.par.getBool(param::kEqualizedLayout) ? vcgext::QuadSimplifyParams::Layout::Equalized
@@ -96,7 +96,7 @@ bool ApplyQuad(GlueContext& ctx) {
   // A start too coarse (its cage keeps more than half its quads, its limit farther than tau):
   // refined (docs/quad.md "A start too coarse").
   p.startRmsPermille = 10.0 * tau;
-  const int workingFaces = ctx.par.getInt(param::kWorkingFaces);
+  workingFaces = ctx.par.getInt(param::kWorkingFaces);
   if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
   if (!(p.valenceWeight >= 0 && p.valenceWeight <= 100)) return ctx.Fail("the regularity weight must be in [0, 100]");
@@ -104,42 +104,41 @@ bool ApplyQuad(GlueContext& ctx) {
   if (p.targetPatches < 0) return ctx.Fail("target patches must be >= 0");
   if (!p.useMFitmap && p.targetPatches == 0)
     return ctx.Fail("without the M-fitmap test a target patch count is needed (it would collapse everything)");
+  return true;
+}
 
-  // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
-  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(in.cm);
-  if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
-  for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
-  for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);
-  const vcgext::TriData& tri = w.mesh;
+// A pure-quad layer (faux edges pairing its triangles) is simplified from its quads (`given`,
+// remapped to the working copy) when they are usable and enough for the budget.
+bool LayerQuads(GlueContext& ctx, MeshModel& in, vcgext::WorkingCopy& w, int targetPatches, vcgext::QuadData& given) {
   int faux = 0;
   for (const auto& f : in.cm.face)
     if (!f.IsD())
       for (int k = 0; k < 3; ++k) faux += f.IsF(k) ? 1 : 0;
-  vcgext::QuadData given;
   bool useQuads = false;
   if (faux > 0) {
     std::string err = vcgext::ImportQuads(in.cm, given);
     // a tiny quad layer (a 6-quad cube) is better started from its refined triangles
     // (and one with fewer quads than the budget from its triangles, refined for room)
-    useQuads = err.empty() && int(given.F.size()) * 2 >= kMinWorkingFaces && int(given.F.size()) >= p.targetPatches &&
+    useQuads = err.empty() && int(given.F.size()) * 2 >= kMinWorkingFaces && int(given.F.size()) >= targetPatches &&
                vcgext::RemapQuadsToWorkingCopy(w, given.F);
     ctx.log(useQuads ? "Fitmap Quad Simplification: the layer is pure quads: simplifying its quads"
                      : "Fitmap Quad Simplification: the layer's polygons are not usable as quads (" +
                            (err.empty() ? std::string("repaired on the working copy, or too few") : err) +
                            "): simplifying its triangles");
   }
-  vcgext::EmbreeScene scene(tri);
-  if (!scene.Ok()) return ctx.Fail(scene.Error());
+  return useQuads;
+}
 
-  // Fitmaps: from the layer if computed with this tau, else computed here (layer untouched).
-  std::vector<double> S, M;
-  StageTimes times = GetStageTimes(in.cm);
+// The Fitmaps on the working copy: the layer's if computed with this tau (`fromLayer`), else
+// computed here (the layer untouched; `times` then starts with their stage). False after ctx.Fail.
+bool QuadFitmaps(GlueContext& ctx, MeshModel& in, const vcgext::WorkingCopy& w, const vcgext::EmbreeScene& scene,
+                 double tau, std::vector<double>& S, std::vector<double>& M, StageTimes& times, bool& fromLayer) {
+  times = GetStageTimes(in.cm);
   auto hS = vcg::tri::Allocator<CMeshO>::FindPerVertexAttribute<float>(in.cm, vcgext::kFitmapSAttr);
   auto hM = vcg::tri::Allocator<CMeshO>::FindPerVertexAttribute<float>(in.cm, vcgext::kFitmapMAttr);
-  const bool have = vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hS) &&
-                    vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hM) &&
-                    std::abs(GetFitmapTau(in.cm) - tau) < 1e-6;
-  if (have) {
+  fromLayer = vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hS) &&
+              vcg::tri::Allocator<CMeshO>::IsValidHandle<float>(in.cm, hM) && std::abs(GetFitmapTau(in.cm) - tau) < 1e-6;
+  if (fromLayer) {
     S = vcgext::AttributeOnWorkingCopy(w, in.cm, hS);
     M = vcgext::AttributeOnWorkingCopy(w, in.cm, hM);
     ctx.log("Fitmap Quad Simplification: using the layer's Fitmaps (tau = " + std::to_string(tau) + "%)");
@@ -147,7 +146,7 @@ bool ApplyQuad(GlueContext& ctx) {
     vcgext::FitmapParams fp;
     fp.tauPercent = tau;
     fp.workingFaces = kDefaultFitmapsWorkingFaces;
-    vcgext::FitmapResult fr = vcgext::ComputeFitmaps(tri, scene, fp, ctx.cb);
+    vcgext::FitmapResult fr = vcgext::ComputeFitmaps(w.mesh, scene, fp, ctx.cb);
     if (!fr.error.empty()) return ctx.Fail("Fitmap Quad Simplification: Fitmaps: " + fr.error);
     S = fr.S;
     M = fr.M;
@@ -155,35 +154,12 @@ bool ApplyQuad(GlueContext& ctx) {
     ctx.log("Fitmap Quad Simplification: computed Fitmaps (tau = " + std::to_string(tau) + "%) in " +
             std::to_string(fr.seconds) + " s");
   }
+  return true;
+}
 
-  // Working resolution M' (§4): the control mesh starts from a decimated copy of a dense input.
-  vcgext::StartMeshParams sp{0, 0, 0, 0};  // a pure-quad layer: from its quads
-  if (!useQuads) sp = BudgetStartParams(workingFaces, p.targetPatches, int(tri.F.size()));
-  const vcgext::StartMesh start = vcgext::ChooseStartMesh(tri, sp, ctx.cb);
-  for (const std::string& warning : start.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + warning);
-  for (const std::string& note : start.notes) ctx.log("Fitmap Quad Simplification: " + note);
-  if (start.work.decimated) times.push_back({"working_resolution", start.work.seconds});
-  vcgext::QuadSimplifyResult r = vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr,
-                                                         start.differs ? &start.work.mesh : nullptr);
-  if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
-
-  char name[128];
-  snprintf(name, sizeof name, "%s quads tau=%g%%", in.label().toStdString().c_str(), tau);
-  MeshModel* out = ctx.md.addNewMesh("", name, true);
-  out->updateDataMask(MeshModel::MM_POLYGONAL);
-  vcgext::ExportQuads(r.quads, out->cm);
-  UpdateBoxAndNormals(*out);
-  if (r.countPatches > 0) times.push_back({"count_pass", r.secondsCount});
-  times.push_back({"tri_to_quad", r.secondsTriToQuad});
-  times.push_back({"initial_fit", r.secondsInitialFit});
-  times.push_back({"simplification", r.secondsSimplify});
-  if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
-  if (r.secondsStartRetries > 0) times.push_back({"start_refinement", r.secondsStartRetries});
-  SetStageTimes(out->cm, times);
-  StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
-  memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});
-  SetStageMemory(out->cm, memory);
-
+// The log lines and returned values of a simplification (r, for the parameters p, on `tri`).
+void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
+                 const vcgext::TriData& tri, std::chrono::steady_clock::time_point t0) {
   std::ostringstream log;
   log << "Fitmap Quad Simplification: " << r.initialPatches << " -> " << r.patches << " patches, "
       << r.irregularVertices << " irregular vertices; tri-to-quad: " << vcgext::quad::ToString(r.triToQuadPath)
@@ -264,6 +240,63 @@ bool ApplyQuad(GlueContext& ctx) {
     ctx.log(g.str());
   }
   if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);
+}
+}  // namespace
+
+bool ApplyQuad(GlueContext& ctx) {
+  MeshModel& in = *ctx.md.mm();
+  const auto t0 = std::chrono::steady_clock::now();
+  vcgext::QuadSimplifyParams p;
+  double tau = 0;
+  int workingFaces = 0;
+  if (!QuadParams(ctx, p, tau, workingFaces)) return false;
+
+  // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(in.cm);
+  if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
+  for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
+  for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);
+  const vcgext::TriData& tri = w.mesh;
+  vcgext::QuadData given;
+  const bool useQuads = LayerQuads(ctx, in, w, p.targetPatches, given);
+  vcgext::EmbreeScene scene(tri);
+  if (!scene.Ok()) return ctx.Fail(scene.Error());
+
+  // Fitmaps: from the layer if computed with this tau, else computed here (layer untouched).
+  std::vector<double> S, M;
+  StageTimes times;
+  bool have = false;
+  if (!QuadFitmaps(ctx, in, w, scene, tau, S, M, times, have)) return false;
+
+  // Working resolution M' (§4): the control mesh starts from a decimated copy of a dense input.
+  vcgext::StartMeshParams sp{0, 0, 0, 0};  // a pure-quad layer: from its quads
+  if (!useQuads) sp = BudgetStartParams(workingFaces, p.targetPatches, int(tri.F.size()));
+  const vcgext::StartMesh start = vcgext::ChooseStartMesh(tri, sp, ctx.cb);
+  for (const std::string& warning : start.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + warning);
+  for (const std::string& note : start.notes) ctx.log("Fitmap Quad Simplification: " + note);
+  if (start.work.decimated) times.push_back({"working_resolution", start.work.seconds});
+  vcgext::QuadSimplifyResult r = vcgext::SimplifyToQuads(tri, scene, S, M, p, ctx.cb, useQuads ? &given.F : nullptr,
+                                                         start.differs ? &start.work.mesh : nullptr);
+  if (!r.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + r.error);
+
+  char name[128];
+  snprintf(name, sizeof name, "%s quads tau=%g%%", in.label().toStdString().c_str(), tau);
+  MeshModel* out = ctx.md.addNewMesh("", name, true);
+  out->updateDataMask(MeshModel::MM_POLYGONAL);
+  vcgext::ExportQuads(r.quads, out->cm);
+  UpdateBoxAndNormals(*out);
+  if (r.countPatches > 0) times.push_back({"count_pass", r.secondsCount});
+  times.push_back({"tri_to_quad", r.secondsTriToQuad});
+  times.push_back({"initial_fit", r.secondsInitialFit});
+  times.push_back({"simplification", r.secondsSimplify});
+  if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
+  if (r.secondsStartRetries > 0) times.push_back({"start_refinement", r.secondsStartRetries});
+  SetStageTimes(out->cm, times);
+  StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
+  memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});
+  SetStageMemory(out->cm, memory);
+
+  ReportQuads(ctx, r, p, tri, t0);
   return true;
 }
 
