@@ -1,6 +1,8 @@
 /// \file atlas_layout.cpp
 /// The displacement atlas's layout (bake.h): automatic budgets, uniform and adaptive tile
 /// layouts, the adaptive tile sizes and their inputs (patch areas, reference vertices per patch).
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -112,45 +112,32 @@ Eigen::SparseMatrix<double> LaplacianNormalMatrix(const QuadData& control) {
 
 }  // namespace fitdetail
 
-FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitParams& p,
-                          vcg::CallBackPos* cb) {
-  FitResult res;
-  const auto t0 = Clock::now();
-  Progress prog(cb);
-  if (ref.V.empty() || ref.F.empty()) { res.error = "the reference mesh is empty"; return res; }
-  if (!scene.Ok()) { res.error = "the reference ray-casting scene is not valid: " + scene.Error(); return res; }
-  if (control.F.empty()) { res.error = "the control mesh has no faces"; return res; }
-  for (size_t i = 0; i < control.V.size(); ++i)
-    if (!control.V[i].allFinite()) {
-      res.error = "control vertex " + std::to_string(i) + " has NaN or infinite coordinates";
-      return res;
-    }
+namespace {
+
+// Parameters out of range (empty: none).
+std::string CheckFitParams(const FitParams& p) {
   if (p.maxIterations < 1 || p.minK < 1 || p.maxK < p.minK || p.samplesPerVertex <= 0 || p.vertexWeight < 0 ||
       p.dampingWeight < 0 || p.smoothWeight < 0 || p.maxProjectionPercent <= 0 || !(p.tangentWeight > 0) ||
       p.dataWeight < 0 || p.sampleWeight < 0 || !(p.dataWeight + p.sampleWeight > 0) || p.footpointSegments < 1) {
-    res.error = "invalid fit parameters (iterations >= 1, 1 <= minK <= maxK, positive sample density, distance and "
-                "tangent weight, non-negative weights, foot-point segments >= 1)";
-    return res;
+    return "invalid fit parameters (iterations >= 1, 1 <= minK <= maxK, positive sample density, distance and "
+           "tangent weight, non-negative weights, foot-point segments >= 1)";
   }
-  LimitSurface ls = LimitSurface::FromQuads(control);
-  if (!ls.Ok()) { res.error = "control mesh: " + ls.Error(); return res; }
-  const int nV = int(control.V.size()), nF = int(control.F.size());
-  res.patches = nF;
-  res.irregularVertices = ls.NumIrregularVertices();
-  const double diag = BBoxDiagonal(ref.V);
-  const double maxDist = p.maxProjectionPercent / 100.0 * diag;
-  const double refArea = TotalArea(ref);
-  if (!(refArea > 0)) { res.error = "the reference mesh has zero area"; return res; }
-  prog(0, "Fit: sampling patches", true);
+  return {};
+}
 
-  // ---- samples: k×k cell centres per patch + one corner sample per control vertex.
-  std::vector<int> kOf(nF);
+// Where the fit samples (§3.5): k x k cell centres per patch, k from the patch's share of the
+// reference's area (samplesPerVertex per reference vertex, clamped to [minK, maxK]); `kOf`, the
+// prefix sums `sampleOffs`, and the degenerate patches and the range of k in `res`.
+void PlanSamples(const LimitSurface& ls, const QuadData& control, const TriData& ref, const FitParams& p,
+                 double diag, double refArea, std::vector<int>& kOf, std::vector<int>& sampleOffs, FitResult& res) {
+  const int nF = int(control.F.size());
+  kOf.assign(nF, 0);
   std::vector<double> area(nF);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int f = 0; f < nF; ++f) area[f] = fitdetail::PatchArea(ls, control.V, f, 4);
   res.minKUsed = p.maxK;
   res.maxKUsed = 0;
-  std::vector<int> sampleOffs(nF + 1, 0);
+  sampleOffs.assign(nF + 1, 0);
   const double tiny = 1e-14 * diag * diag;
   for (int f = 0; f < nF; ++f) {
     const auto& q = control.F[f];
@@ -169,15 +156,19 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
     res.maxKUsed = std::max(res.maxKUsed, k);
     sampleOffs[f + 1] = sampleOffs[f] + k * k;
   }
-  const int nS = sampleOffs[nF];
-  res.samples = nS;
-  const int nRows = nS + nV;
+}
 
-  // Stencils (rows of A, ADu, ADv), computed in parallel per patch.
+// The fixed rows of the fit: the stencils (A, ADu, ADv) of the patch samples [0, nS), then one
+// row per control vertex at its corner (system (1)); each row's face and weight.
+void StencilRows(const LimitSurface& ls, const QuadData& control, const FitParams& p, const std::vector<int>& kOf,
+                 const std::vector<int>& sampleOffs, std::vector<fitdetail::StencilRow>& rows,
+                 std::vector<double>& weight, std::vector<int>& rowFace) {
+  const int nV = int(control.V.size()), nF = int(control.F.size());
+  const int nS = sampleOffs[nF], nRows = nS + nV;
   using Row = fitdetail::StencilRow;
-  std::vector<Row> rows(nRows);
-  std::vector<double> weight(nRows, 1.0);
-  std::vector<int> rowFace(nRows, -1);
+  rows.assign(nRows, Row());
+  weight.assign(nRows, 1.0);
+  rowFace.assign(nRows, -1);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int f = 0; f < nF; ++f) {
     LimitStencil st;
@@ -211,20 +202,15 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
       weight[nS + v] = p.vertexWeight;
     }
   }
-  if (p.method == FitMethod::TangentDistance) {
-    Eigen::MatrixXd X(nV, 3);
-    for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
-    res.secondsSetup = Since(t0);
-    const SpMat LtL = p.smoothWeight > 0 ? fitdetail::LaplacianNormalMatrix(control) : SpMat(nV, nV);
-    res.error = fitdetail::FitTangentDistance(ls, ref, scene, p, rows, rowFace, weight, nS, maxDist, LtL, X, res, prog);
-    if (!res.error.empty()) return res;
-    res.control.F = control.F;
-    res.control.V.resize(nV);
-    for (int v = 0; v < nV; ++v) res.control.V[v] = X.row(v).transpose();
-    res.seconds = Since(t0);
-    prog(100, "Fit: done", true);
-    return res;
-  }
+}
+
+// The paper's literal §3.5 (FitMethod::PointToPoint): every row pulled to its projection along
+// the limit normal, one factorization, project -> solve until the RMS stops improving. The best
+// iterate in `best` (nV x 3); false with res.error set on a singular system or a cage far off.
+bool FitPointToPoint(const QuadData& control, const EmbreeScene& scene, const FitParams& p,
+                     std::vector<fitdetail::StencilRow>& rows, const std::vector<double>& weight, int nS,
+                     double maxDist, Clock::time_point t0, Progress& prog, Eigen::MatrixXd& best, FitResult& res) {
+  const int nV = int(control.V.size()), nRows = int(rows.size());
   std::vector<Eigen::Triplet<double>> tA, tU, tV;
   size_t nnz = 0;
   for (const auto& r : rows) nnz += r.idx.size();
@@ -242,7 +228,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   ADu.setFromTriplets(tU.begin(), tU.end());
   ADv.setFromTriplets(tV.begin(), tV.end());
   tA.clear(); tU.clear(); tV.clear();
-  Eigen::VectorXd W = Eigen::Map<Eigen::VectorXd>(weight.data(), nRows);
+  Eigen::VectorXd W = Eigen::Map<const Eigen::VectorXd>(weight.data(), nRows);
   SpMat AtW = SpMat(A.transpose()) * W.asDiagonal();
   SpMat M = AtW * A;
   const double meanDiag = M.diagonal().sum() / nV;
@@ -262,13 +248,13 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   if (solver.info() != Eigen::Success) {
     res.error = "the fitting system is singular (" + std::to_string(nV) + " control vertices, " +
                 std::to_string(nS) + " samples): increase samplesPerVertex or dampingWeight";
-    return res;
+    return false;
   }
 
   // ---- iterate project -> solve.
   Eigen::MatrixXd X(nV, 3);
   for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
-  Eigen::MatrixXd best = X;
+  best = X;
   double bestRms = std::numeric_limits<double>::infinity();
   Eigen::MatrixXd T(nRows, 3);
   for (int it = 0; it <= p.maxIterations; ++it) {
@@ -300,7 +286,7 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
                   std::to_string(int(std::round(100 * res.rayMissFraction))) +
                   "% of the limit samples find no reference surface along their normal within " +
                   std::to_string(p.maxProjectionPercent) + "% of the bbox diagonal";
-      return res;
+      return false;
     }
     res.rmsPerIteration.push_back(rms);
     if (fitdetail::StopIterating(rms, bestRms, X, best, p, it)) break;
@@ -313,6 +299,64 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
     ++res.iterations;
     if (!X.allFinite()) { X = best; break; }
   }
+  return true;
+}
+
+}  // namespace
+
+FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitParams& p,
+                          vcg::CallBackPos* cb) {
+  FitResult res;
+  const auto t0 = Clock::now();
+  Progress prog(cb);
+  if (ref.V.empty() || ref.F.empty()) { res.error = "the reference mesh is empty"; return res; }
+  if (!scene.Ok()) { res.error = "the reference ray-casting scene is not valid: " + scene.Error(); return res; }
+  if (control.F.empty()) { res.error = "the control mesh has no faces"; return res; }
+  for (size_t i = 0; i < control.V.size(); ++i)
+    if (!control.V[i].allFinite()) {
+      res.error = "control vertex " + std::to_string(i) + " has NaN or infinite coordinates";
+      return res;
+    }
+  res.error = CheckFitParams(p);
+  if (!res.error.empty()) return res;
+  LimitSurface ls = LimitSurface::FromQuads(control);
+  if (!ls.Ok()) { res.error = "control mesh: " + ls.Error(); return res; }
+  const int nV = int(control.V.size()), nF = int(control.F.size());
+  res.patches = nF;
+  res.irregularVertices = ls.NumIrregularVertices();
+  const double diag = BBoxDiagonal(ref.V);
+  const double maxDist = p.maxProjectionPercent / 100.0 * diag;
+  const double refArea = TotalArea(ref);
+  if (!(refArea > 0)) { res.error = "the reference mesh has zero area"; return res; }
+  prog(0, "Fit: sampling patches", true);
+
+  // ---- samples: k×k cell centres per patch + one corner sample per control vertex.
+  std::vector<int> kOf, sampleOffs;
+  PlanSamples(ls, control, ref, p, diag, refArea, kOf, sampleOffs, res);
+  const int nS = sampleOffs[nF];
+  res.samples = nS;
+
+  // Stencils (rows of A, ADu, ADv), computed in parallel per patch.
+  std::vector<fitdetail::StencilRow> rows;
+  std::vector<double> weight;
+  std::vector<int> rowFace;
+  StencilRows(ls, control, p, kOf, sampleOffs, rows, weight, rowFace);
+  if (p.method == FitMethod::TangentDistance) {
+    Eigen::MatrixXd X(nV, 3);
+    for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
+    res.secondsSetup = Since(t0);
+    const SpMat LtL = p.smoothWeight > 0 ? fitdetail::LaplacianNormalMatrix(control) : SpMat(nV, nV);
+    res.error = fitdetail::FitTangentDistance(ls, ref, scene, p, rows, rowFace, weight, nS, maxDist, LtL, X, res, prog);
+    if (!res.error.empty()) return res;
+    res.control.F = control.F;
+    res.control.V.resize(nV);
+    for (int v = 0; v < nV; ++v) res.control.V[v] = X.row(v).transpose();
+    res.seconds = Since(t0);
+    prog(100, "Fit: done", true);
+    return res;
+  }
+  Eigen::MatrixXd best;
+  if (!FitPointToPoint(control, scene, p, rows, weight, nS, maxDist, t0, prog, best, res)) return res;
   res.control.F = control.F;
   res.control.V.resize(nV);
   for (int v = 0; v < nV; ++v) res.control.V[v] = best.row(v).transpose();

@@ -1,5 +1,7 @@
 #include "vcg_ext/fit/renderer_grid.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
