@@ -540,6 +540,10 @@ struct LoopSurface::Impl {
     return it != dartMasks.end() && it->first == i ? &it->second : nullptr;
   }
 
+  void BuildPatches(const TriData& net, const std::vector<LoopVertexType>& vtype,
+                    const std::vector<std::array<unsigned char, 3>>& hard, const Adjacency& vf, int cacheDepth,
+                    std::vector<char>& isReg, std::vector<Patch>& tmpPatch);
+  int Flatten(int nF, const std::vector<char>& isReg, const std::vector<Patch>& tmpPatch);
   int BuildNode(TriCache& tc, const LNet& n, int depth, int cacheDepth) {
     int id = int(tc.nodes.size());
     tc.nodes.emplace_back();
@@ -629,20 +633,24 @@ LoopSurface::~LoopSurface() = default;
 LoopSurface::LoopSurface(LoopSurface&&) noexcept = default;
 LoopSurface& LoopSurface::operator=(LoopSurface&&) noexcept = default;
 
-LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(net), params_(p), impl_(new Impl) {
+namespace {
+
+// What makes a control net unusable (empty: nothing): no faces, non-finite coordinates, bad or
+// repeated indices, a vertex of more than maxValence triangles.
+std::string CheckNet(const TriData& net, const LoopSurfaceParams& p) {
   const int nV = int(net.V.size()), nF = int(net.F.size());
-  if (nV == 0 || nF == 0) { error_ = "the control net is empty (" + std::to_string(nV) + " vertices, " + std::to_string(nF) + " faces)"; return; }
+  if (nV == 0 || nF == 0) { return "the control net is empty (" + std::to_string(nV) + " vertices, " + std::to_string(nF) + " faces)"; }
   {
     int bad = 0, first = -1;
     for (int i = 0; i < nV; ++i)
       if (!net.V[i].allFinite()) { if (first < 0) first = i; ++bad; }
-    if (bad) { error_ = std::to_string(bad) + " vertices have NaN or infinite coordinates (first: vertex " + std::to_string(first) + ")"; return; }
+    if (bad) { return std::to_string(bad) + " vertices have NaN or infinite coordinates (first: vertex " + std::to_string(first) + ")"; }
   }
   for (int f = 0; f < nF; ++f) {
     const Tri& t = net.F[f];
     for (int k = 0; k < 3; ++k)
-      if (t[k] < 0 || t[k] >= nV) { error_ = "face " + std::to_string(f) + " has an out-of-range vertex index " + std::to_string(t[k]); return; }
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { error_ = "face " + std::to_string(f) + " repeats a vertex"; return; }
+      if (t[k] < 0 || t[k] >= nV) { return "face " + std::to_string(f) + " has an out-of-range vertex index " + std::to_string(t[k]); }
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) { return "face " + std::to_string(f) + " repeats a vertex"; }
   }
   if (p.maxValence > 0) {
     std::vector<int> valence(nV, 0);
@@ -650,13 +658,20 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       for (int v : t) ++valence[v];
     const auto it = std::max_element(valence.begin(), valence.end());
     if (*it > p.maxValence) {
-      error_ = "vertex " + std::to_string(it - valence.begin()) + " is in " + std::to_string(*it) +
+      return "vertex " + std::to_string(it - valence.begin()) + " is in " + std::to_string(*it) +
                " triangles (at most " + std::to_string(p.maxValence) +
                " are supported: the Loop evaluation around such a vertex takes minutes); remesh the layer first "
                "(Filters > Remeshing, Simplification and Reconstruction > Remeshing: Isotropic Explicit Remeshing)";
-      return;
     }
   }
+  return {};
+}
+
+// Face adjacency across each edge (-1: boundary) and hard edges (boundary, dihedral above the
+// crease angle, or listed in p.extraHardEdges); an error on non-manifold or misoriented edges.
+std::string EdgesAndHardness(const TriData& net, const LoopSurfaceParams& p, std::vector<std::array<int, 3>>& adj,
+                             std::vector<std::array<unsigned char, 3>>& hard) {
+  const int nV = int(net.V.size()), nF = int(net.F.size());
   // edges: sort directed half-edges by undirected key
   struct HE { int64_t key; int f, k; };
   std::vector<HE> he(3 * size_t(nF));
@@ -666,8 +681,8 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       he[3 * f + k] = {int64_t(std::min(a, b)) * nV + std::max(a, b), f, k};
     }
   std::sort(he.begin(), he.end(), [](const HE& x, const HE& y) { return x.key < y.key || (x.key == y.key && x.f < y.f); });
-  adj_.assign(nF, {-1, -1, -1});
-  hard_.assign(nF, {0, 0, 0});
+  adj.assign(nF, {-1, -1, -1});
+  hard.assign(nF, {0, 0, 0});
   int nonManifold = 0, misoriented = 0, firstNM = -1, firstMis = -1;
   std::vector<Vec3> fn = FaceNormals(net);
   const double cosT = (p.creaseAngleDeg > 0 && p.creaseAngleDeg < 180) ? std::cos(p.creaseAngleDeg * M_PI / 180.0) : -2.0;
@@ -679,106 +694,83 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       const HE &x = he[i], &y = he[i + 1];
       int ax = net.F[x.f][x.k], ay = net.F[y.f][y.k];
       if (ax == ay) { ++misoriented; if (firstMis < 0) firstMis = x.f; }
-      adj_[x.f][x.k] = y.f;
-      adj_[y.f][y.k] = x.f;
+      adj[x.f][x.k] = y.f;
+      adj[y.f][y.k] = x.f;
       double c = fn[x.f].dot(fn[y.f]);
-      if (fn[x.f].squaredNorm() > 0 && fn[y.f].squaredNorm() > 0 && c < cosT) hard_[x.f][x.k] = hard_[y.f][y.k] = 1;
+      if (fn[x.f].squaredNorm() > 0 && fn[y.f].squaredNorm() > 0 && c < cosT) hard[x.f][x.k] = hard[y.f][y.k] = 1;
     } else {
-      hard_[he[i].f][he[i].k] = 1;  // boundary edges are hard
+      hard[he[i].f][he[i].k] = 1;  // boundary edges are hard
     }
     i = j;
   }
-  if (nonManifold) { error_ = std::to_string(nonManifold) + " non-manifold edges (shared by more than two faces; first at face " + std::to_string(firstNM) + ")"; return; }
-  if (misoriented) { error_ = std::to_string(misoriented) + " edges with inconsistently oriented faces (first at face " + std::to_string(firstMis) + "): orient the mesh first"; return; }
+  if (nonManifold) { return std::to_string(nonManifold) + " non-manifold edges (shared by more than two faces; first at face " + std::to_string(firstNM) + ")"; }
+  if (misoriented) { return std::to_string(misoriented) + " edges with inconsistently oriented faces (first at face " + std::to_string(firstMis) + "): orient the mesh first"; }
   for (const auto& e : p.extraHardEdges) {
     int a = e.first, b = e.second;
-    if (a < 0 || b < 0 || a >= nV || b >= nV || a == b) { error_ = "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") has invalid vertex indices"; return; }
+    if (a < 0 || b < 0 || a >= nV || b >= nV || a == b) { return "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") has invalid vertex indices"; }
     int64_t key = int64_t(std::min(a, b)) * nV + std::max(a, b);
     auto it = std::lower_bound(he.begin(), he.end(), key, [](const HE& x, int64_t k) { return x.key < k; });
-    if (it == he.end() || it->key != key) { error_ = "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") is not an edge of the mesh"; return; }
-    for (; it != he.end() && it->key == key; ++it) hard_[it->f][it->k] = 1;
+    if (it == he.end() || it->key != key) { return "extra hard edge (" + std::to_string(a) + "," + std::to_string(b) + ") is not an edge of the mesh"; }
+    for (; it != he.end() && it->key == key; ++it) hard[it->f][it->k] = 1;
   }
-  impl_->diag = BBoxDiagonal(net.V);
-  // vertex types
-  impl_->vv = VertexVertexAdjacency(net.F, nV);
-  Adjacency vf = VertexFaceAdjacency(net.F, nV);
-  impl_->hardNb.assign(nV, {});
-  vcorner_.assign(nV, {-1, -1});
-  numHardEdges_ = 0;
-  for (int f = 0; f < nF; ++f)
-    for (int k = 0; k < 3; ++k) {
-      if (vcorner_[net.F[f][k]].first < 0) vcorner_[net.F[f][k]] = {f, k};
-      if (!hard_[f][k]) continue;
-      int a = net.F[f][k], b = net.F[f][(k + 1) % 3];
-      if (adj_[f][k] >= 0 && adj_[f][k] < f) continue;  // count interior edges once
-      impl_->hardNb[a].push_back(b);
-      impl_->hardNb[b].push_back(a);
-      ++numHardEdges_;
-    }
-  vtype_.assign(nV, LoopVertexType::Smooth);
-  for (int i = 0; i < nV; ++i) {
-    int nf = vf.Count(i), nn = impl_->vv.Count(i), nh = int(impl_->hardNb[i].size());
-    int boundary = 0;
-    for (const int* f = vf.Begin(i); f != vf.End(i); ++f)
-      for (int k = 0; k < 3; ++k)
-        if (adj_[*f][k] < 0 && (net.F[*f][k] == i || net.F[*f][(k + 1) % 3] == i)) ++boundary;
-    bool manifold = (boundary == 0 && nf == nn) || (boundary == 2 && nn == nf + 1);
-    if (nf == 0) vtype_[i] = LoopVertexType::Smooth;
-    else if (!manifold || nh > 2) vtype_[i] = LoopVertexType::Corner;
-    else if (nh == 2) vtype_[i] = LoopVertexType::Crease;
-    else vtype_[i] = LoopVertexType::Smooth;  // 0 hard edges or a dart
-    if (vtype_[i] == LoopVertexType::Corner && nh < 3) {
-      // a non-manifold vertex: fixed; its hard neighbours do not matter
-    }
+  return {};
+}
+
+// Exact limit mask of a dart i (a smooth vertex with one hard edge; its corner (f, k)): the left
+// eigenvector (eigenvalue 1) of its 1-ring subdivision matrix. False where the ring is open.
+bool DartMask(const TriData& net, int i, std::pair<int, int> corner, const std::vector<std::array<int, 3>>& adj,
+              const std::vector<std::array<unsigned char, 3>>& hard, std::vector<std::pair<int, double>>& mask) {
+  std::vector<int> ring;
+  std::vector<char> ringHard;
+  int f0 = corner.first, f = f0, k = corner.second;
+  bool closed = false;
+  for (int guard = 0; guard < 10000; ++guard) {
+    ring.push_back(net.F[f][(k + 1) % 3]);
+    ringHard.push_back(hard[f][k]);
+    int g = adj[f][(k + 2) % 3];  // across edge (F[f][k+2], i)
+    if (g < 0) break;
+    f = g;
+    k = 0;
+    while (k < 3 && net.F[f][k] != i) ++k;
+    if (f == f0) { closed = true; break; }
   }
-  // exact limit masks of darts: left eigenvector (eigenvalue 1) of the 1-ring subdivision matrix
-  for (int i = 0; i < nV; ++i) {
-    if (vtype_[i] != LoopVertexType::Smooth || impl_->hardNb[i].empty() || vf.Count(i) == 0) continue;
-    std::vector<int> ring;
-    std::vector<char> ringHard;
-    int f0 = vcorner_[i].first, f = f0, k = vcorner_[i].second;
-    bool closed = false;
-    for (int guard = 0; guard < 10000; ++guard) {
-      ring.push_back(net.F[f][(k + 1) % 3]);
-      ringHard.push_back(hard_[f][k]);
-      int g = adj_[f][(k + 2) % 3];  // across edge (F[f][k+2], i)
-      if (g < 0) break;
-      f = g;
-      k = 0;
-      while (k < 3 && net.F[f][k] != i) ++k;
-      if (f == f0) { closed = true; break; }
-    }
-    const int val = int(ring.size());
-    if (!closed || val < 3) continue;  // cannot happen for a manifold interior vertex
-    // S: row 0 vertex point, row 1+j edge point of edge (i, ring[j]); columns 0: i, 1+j: ring[j]
-    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(val + 1, val + 1);
-    const double b = LoopBeta(val);
-    S(0, 0) = 1.0 - val * b;
-    for (int j = 0; j < val; ++j) S(0, 1 + j) = b;
-    for (int j = 0; j < val; ++j) {
-      if (ringHard[j]) { S(1 + j, 0) = 0.5; S(1 + j, 1 + j) = 0.5; continue; }
-      S(1 + j, 0) = 0.375;
-      S(1 + j, 1 + j) += 0.375;
-      S(1 + j, 1 + (j + 1) % val) += 0.125;
-      S(1 + j, 1 + (j + val - 1) % val) += 0.125;
-    }
-    Eigen::MatrixXd A(val + 2, val + 1);
-    A.topRows(val + 1) = S.transpose() - Eigen::MatrixXd::Identity(val + 1, val + 1);
-    A.row(val + 1).setOnes();
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(val + 2);
-    rhs(val + 1) = 1.0;
-    Eigen::VectorXd l = A.colPivHouseholderQr().solve(rhs);
-    std::vector<std::pair<int, double>> mask;
-    mask.push_back({i, l(0)});
-    for (int j = 0; j < val; ++j) mask.push_back({ring[j], l(1 + j)});
-    impl_->dartMasks.push_back({i, std::move(mask)});
+  const int val = int(ring.size());
+  if (!closed || val < 3) return false;  // cannot happen for a manifold interior vertex
+  // S: row 0 vertex point, row 1+j edge point of edge (i, ring[j]); columns 0: i, 1+j: ring[j]
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(val + 1, val + 1);
+  const double b = LoopBeta(val);
+  S(0, 0) = 1.0 - val * b;
+  for (int j = 0; j < val; ++j) S(0, 1 + j) = b;
+  for (int j = 0; j < val; ++j) {
+    if (ringHard[j]) { S(1 + j, 0) = 0.5; S(1 + j, 1 + j) = 0.5; continue; }
+    S(1 + j, 0) = 0.375;
+    S(1 + j, 1 + j) += 0.375;
+    S(1 + j, 1 + (j + 1) % val) += 0.125;
+    S(1 + j, 1 + (j + val - 1) % val) += 0.125;
   }
-  // patches
-  impl_->maxDepth = std::max(1, std::min(p.maxDepth, 40));
-  const int cacheDepth = std::max(0, std::min(p.cacheDepth, 10));
-  impl_->cache.resize(nF);
-  std::vector<char> isReg(nF, 0);
-  std::vector<Patch> tmpPatch(nF);
+  Eigen::MatrixXd A(val + 2, val + 1);
+  A.topRows(val + 1) = S.transpose() - Eigen::MatrixXd::Identity(val + 1, val + 1);
+  A.row(val + 1).setOnes();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(val + 2);
+  rhs(val + 1) = 1.0;
+  Eigen::VectorXd l = A.colPivHouseholderQr().solve(rhs);
+  mask.clear();
+  mask.push_back({i, l(0)});
+  for (int j = 0; j < val; ++j) mask.push_back({ring[j], l(1 + j)});
+  return true;
+}
+
+}  // namespace
+
+// The patches of every face (§2): a regular face's box-spline tile, an irregular face's
+// subdivision tree down to cacheDepth (TriCache); in parallel, face by face.
+void LoopSurface::Impl::BuildPatches(const TriData& net, const std::vector<LoopVertexType>& vtype,
+                                     const std::vector<std::array<unsigned char, 3>>& hard, const Adjacency& vf,
+                                     int cacheDepth, std::vector<char>& isReg, std::vector<Patch>& tmpPatch) {
+  const int nF = int(net.F.size());
+  cache.resize(nF);
+  isReg.assign(nF, 0);
+  tmpPatch.assign(nF, Patch());
 #pragma omp parallel for schedule(dynamic, 64)
   for (int f = 0; f < nF; ++f) {
     // local net: faces incident to the corners of f
@@ -795,7 +787,7 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       int id = int(n.P.size());
       map.push_back({gv, id});
       n.P.push_back(net.V[gv]);
-      n.type.push_back((unsigned char)vtype_[gv]);
+      n.type.push_back((unsigned char)vtype[gv]);
       return id;
     };
     for (int k = 0; k < 3; ++k) loc(net.F[f][k]);
@@ -803,27 +795,33 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       Tri t = {loc(net.F[g][0]), loc(net.F[g][1]), loc(net.F[g][2])};
       if (g == f) n.target = int(n.F.size());
       n.F.push_back(t);
-      n.H.push_back(hard_[g]);
+      n.H.push_back(hard[g]);
     }
     Vec3 X[12];
     if (Gather(n, X)) {
       isReg[f] = 1;
       tmpPatch[f] = MakePatch(X);
     } else {
-      impl_->BuildNode(impl_->cache[f], n, 0, cacheDepth);
+      BuildNode(cache[f], n, 0, cacheDepth);
     }
   }
+}
+
+// Flattens the patches into the arena (face order; per face breadth-first), frees the trees and
+// indexes the nets whose ring is self-similar (one Ring per topology); returns the number of
+// irregular faces.
+int LoopSurface::Impl::Flatten(int nF, const std::vector<char>& isReg, const std::vector<Patch>& tmpPatch) {
   // flatten into the arena (face order; per face breadth-first)
-  numIrregularFaces_ = 0;
+  int numIrregularFaces_ = 0;
   size_t nTiles = 0, nNodes = 0, nNets = 0;
   for (int f = 0; f < nF; ++f) {
     if (isReg[f]) { ++nTiles; continue; }
     ++numIrregularFaces_;
-    nTiles += impl_->cache[f].patches.size();
-    nNodes += impl_->cache[f].nodes.size();
-    nNets += impl_->cache[f].nets.size();
+    nTiles += cache[f].patches.size();
+    nNodes += cache[f].nodes.size();
+    nNets += cache[f].nets.size();
   }
-  Impl& I = *impl_;
+  Impl& I = *this;
   I.root.assign(nF, 0);
   I.tiles.reserve(nTiles);
   I.nodes.reserve(nNodes);
@@ -874,8 +872,13 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
       I.netRing[i] = it->second;
     }
   }
+  return numIrregularFaces_;
+}
+
+namespace {
+// Transparent huge pages for the tile arena: random queries otherwise miss the TLB on most tiles.
+void AdviseHugePages(LoopSurface::Impl& I) {
 #ifdef __linux__
-  // transparent huge pages for the tile arena: random queries otherwise miss the TLB on most tiles
   {
     const size_t huge = size_t(2) << 20;
     uintptr_t b = reinterpret_cast<uintptr_t>(I.tiles.data()), e = b + I.tiles.size() * sizeof(Patch);
@@ -883,6 +886,62 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
     if (he > hb) madvise(reinterpret_cast<void*>(hb), he - hb, MADV_HUGEPAGE);
   }
 #endif
+}
+}  // namespace
+
+LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(net), params_(p), impl_(new Impl) {
+  const int nV = int(net.V.size()), nF = int(net.F.size());
+  error_ = CheckNet(net, p);
+  if (!error_.empty()) return;
+  error_ = EdgesAndHardness(net, p, adj_, hard_);
+  if (!error_.empty()) return;
+  impl_->diag = BBoxDiagonal(net.V);
+  // vertex types
+  impl_->vv = VertexVertexAdjacency(net.F, nV);
+  Adjacency vf = VertexFaceAdjacency(net.F, nV);
+  impl_->hardNb.assign(nV, {});
+  vcorner_.assign(nV, {-1, -1});
+  numHardEdges_ = 0;
+  for (int f = 0; f < nF; ++f)
+    for (int k = 0; k < 3; ++k) {
+      if (vcorner_[net.F[f][k]].first < 0) vcorner_[net.F[f][k]] = {f, k};
+      if (!hard_[f][k]) continue;
+      int a = net.F[f][k], b = net.F[f][(k + 1) % 3];
+      if (adj_[f][k] >= 0 && adj_[f][k] < f) continue;  // count interior edges once
+      impl_->hardNb[a].push_back(b);
+      impl_->hardNb[b].push_back(a);
+      ++numHardEdges_;
+    }
+  vtype_.assign(nV, LoopVertexType::Smooth);
+  for (int i = 0; i < nV; ++i) {
+    int nf = vf.Count(i), nn = impl_->vv.Count(i), nh = int(impl_->hardNb[i].size());
+    int boundary = 0;
+    for (const int* f = vf.Begin(i); f != vf.End(i); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (adj_[*f][k] < 0 && (net.F[*f][k] == i || net.F[*f][(k + 1) % 3] == i)) ++boundary;
+    bool manifold = (boundary == 0 && nf == nn) || (boundary == 2 && nn == nf + 1);
+    if (nf == 0) vtype_[i] = LoopVertexType::Smooth;
+    else if (!manifold || nh > 2) vtype_[i] = LoopVertexType::Corner;
+    else if (nh == 2) vtype_[i] = LoopVertexType::Crease;
+    else vtype_[i] = LoopVertexType::Smooth;  // 0 hard edges or a dart
+    if (vtype_[i] == LoopVertexType::Corner && nh < 3) {
+      // a non-manifold vertex: fixed; its hard neighbours do not matter
+    }
+  }
+  // exact limit masks of darts: left eigenvector (eigenvalue 1) of the 1-ring subdivision matrix
+  for (int i = 0; i < nV; ++i) {
+    if (vtype_[i] != LoopVertexType::Smooth || impl_->hardNb[i].empty() || vf.Count(i) == 0) continue;
+    std::vector<std::pair<int, double>> mask;
+    if (DartMask(net, i, vcorner_[i], adj_, hard_, mask)) impl_->dartMasks.push_back({i, std::move(mask)});
+  }
+  // patches
+  impl_->maxDepth = std::max(1, std::min(p.maxDepth, 40));
+  const int cacheDepth = std::max(0, std::min(p.cacheDepth, 10));
+  std::vector<char> isReg;
+  std::vector<Patch> tmpPatch;
+  impl_->BuildPatches(net, vtype_, hard_, vf, cacheDepth, isReg, tmpPatch);
+  numIrregularFaces_ = impl_->Flatten(nF, isReg, tmpPatch);
+  AdviseHugePages(*impl_);
 }
 
 int LoopSurface::NumCornerVertices() const {
