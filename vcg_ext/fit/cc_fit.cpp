@@ -341,25 +341,20 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
   std::vector<double> weight;
   std::vector<int> rowFace;
   StencilRows(ls, control, p, kOf, sampleOffs, rows, weight, rowFace);
+  Eigen::MatrixXd X;  // the fitted control points (nV x 3)
   if (p.method == FitMethod::TangentDistance) {
-    Eigen::MatrixXd X(nV, 3);
+    X.resize(nV, 3);
     for (int v = 0; v < nV; ++v) X.row(v) = control.V[v].transpose();
     res.secondsSetup = Since(t0);
     const SpMat LtL = p.smoothWeight > 0 ? fitdetail::LaplacianNormalMatrix(control) : SpMat(nV, nV);
     res.error = fitdetail::FitTangentDistance(ls, ref, scene, p, rows, rowFace, weight, nS, maxDist, LtL, X, res, prog);
     if (!res.error.empty()) return res;
-    res.control.F = control.F;
-    res.control.V.resize(nV);
-    for (int v = 0; v < nV; ++v) res.control.V[v] = X.row(v).transpose();
-    res.seconds = Since(t0);
-    prog(100, "Fit: done", true);
+  } else if (!FitPointToPoint(control, scene, p, rows, weight, nS, maxDist, t0, prog, X, res)) {
     return res;
   }
-  Eigen::MatrixXd best;
-  if (!FitPointToPoint(control, scene, p, rows, weight, nS, maxDist, t0, prog, best, res)) return res;
   res.control.F = control.F;
   res.control.V.resize(nV);
-  for (int v = 0; v < nV; ++v) res.control.V[v] = best.row(v).transpose();
+  for (int v = 0; v < nV; ++v) res.control.V[v] = X.row(v).transpose();
   res.seconds = Since(t0);
   prog(100, "Fit: done", true);
   return res;
