@@ -75,9 +75,7 @@ vcgext::StartMeshParams BudgetStartParams(int workingFaces, int targetPatches, i
   const int startFaces = workingFaces > 0 ? int(std::min<long>(std::max<long>(workingFaces, room), INT_MAX)) : 0;
   return {startFaces, kDefaultFitmapsWorkingFaces, minFaces, kMaxStartValence};
 }
-}  // namespace
 
-namespace {
 // The filter's parameters as QuadSimplifyParams (and tau, the working resolution); false after
 // ctx.Fail on a value out of range.
 bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, int& workingFaces) {

@@ -775,7 +775,6 @@ void LoopSurface::Impl::BuildPatches(const TriData& net, const std::vector<LoopV
   for (int f = 0; f < nF; ++f) {
     // local net: faces incident to the corners of f
     LNet n;
-    std::vector<int> local(0);
     std::vector<int> faces;
     for (int k = 0; k < 3; ++k)
       for (const int* g = vf.Begin(net.F[f][k]); g != vf.End(net.F[f][k]); ++g)
@@ -924,9 +923,7 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
     else if (!manifold || nh > 2) vtype_[i] = LoopVertexType::Corner;
     else if (nh == 2) vtype_[i] = LoopVertexType::Crease;
     else vtype_[i] = LoopVertexType::Smooth;  // 0 hard edges or a dart
-    if (vtype_[i] == LoopVertexType::Corner && nh < 3) {
-      // a non-manifold vertex: fixed; its hard neighbours do not matter
-    }
+    // (a Corner with fewer than 3 hard edges is a non-manifold vertex: fixed all the same)
   }
   // exact limit masks of darts: left eigenvector (eigenvalue 1) of the 1-ring subdivision matrix
   for (int i = 0; i < nV; ++i) {

@@ -53,14 +53,6 @@ bool RetryCoversAsWell(const TriData& input, const EmbreeScene& scene, const Qua
 
 }  // namespace
 
-QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int patches) {
-  QuadSimplifyParams lp = params;
-  lp.layout = QuadSimplifyParams::Layout::PaperHalting;
-  lp.useMFitmap = false;
-  lp.targetPatches = patches;
-  return lp;
-}
-
 QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads) {

@@ -78,8 +78,15 @@ QuadSimplifyResult EqualizedLayout(const TriData& input, const TriData& start, c
                                    const QuadSimplifyParams& params, Progress& prog,
                                    const std::vector<Quad>* initialQuads);
 
-/// The layout pass: S-cost order without the M test, down to `patches`.
-QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int patches);
+/// The layout pass: S-cost order without the M test, down to `patches` (the equalized layout,
+/// the budget ladder and the coverage guard all run it).
+inline QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int patches) {
+  QuadSimplifyParams lp = params;
+  lp.layout = QuadSimplifyParams::Layout::PaperHalting;
+  lp.useMFitmap = false;
+  lp.targetPatches = patches;
+  return lp;
+}
 
 /// A budget of N patches (QuadSimplifyParams::targetPatches, Equalized): the layout pass alone,
 /// then a ladder of retries while the thin-part guard (and the flip check) stop it above N + 2 %
