@@ -34,6 +34,28 @@ int BorderEdgesOnTheSquare(const TriData& t) {
     }
   return boundary;
 }
+// Distance from p to the triangle abc (brute force, Ericson's closest-point regions).
+double PointTriangleDistance(const vcgext::Vec3& p, const vcgext::Vec3& a, const vcgext::Vec3& b,
+                             const vcgext::Vec3& c) {
+  const vcgext::Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.norm();
+  const vcgext::Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
+  const vcgext::Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double den = 1 / (va + vb + vc);
+  return (p - (a + ab * (vb * den) + ac * (vc * den))).norm();
+}
 }  // namespace
 
 TEST(WorkingResolution, SmallInputIsUsedAsItIs) {
@@ -169,4 +191,29 @@ TEST(StartMesh, EachRuleGivesItsMeshAndNote) {
   EXPECT_FALSE(same.differs);
   EXPECT_TRUE(same.notes.empty());
   EXPECT_EQ(same.work.mesh.F.size(), dense.F.size());
+}
+
+// The isotropic remesh of a start with a high-valence vertex is projected onto the input: every
+// vertex on it. vcglib reads the projection radius (Params::maxSurfDist) even with its distance
+// check off; left unset it was stack garbage, and the remesh (hence the cage) changed from run to
+// run: oblong-shuffled.off gave 1 250 to 1 256 triangles and a CI run a different cage. Without
+// the projection (a radius of 1e-4 of the diagonal) a vertex stays 2 % of the radius off this
+// faceted sphere (measured 2026-12-03).
+TEST(StartMesh, RemeshedStartLiesOnTheInput) {
+  const TriData sphere = testsupport::UvSphere(48, 12);  // poles of valence 48 > maxValence 24
+  const vcgext::StartMesh s = vcgext::ChooseStartMesh(sphere, vcgext::StartMeshParams{});
+  ASSERT_EQ(s.work.remeshedValence, 48);
+  ASSERT_GT(s.work.mesh.F.size(), 500u);
+  EXPECT_EQ(Euler(s.work.mesh), 2);
+  double worst = 0;
+  for (const auto& v : s.work.mesh.V) {
+    double d = 1e300;
+    for (const auto& f : sphere.F)
+      d = std::min(d, PointTriangleDistance(v, sphere.V[f[0]], sphere.V[f[1]], sphere.V[f[2]]));
+    worst = std::max(worst, d);
+  }
+  EXPECT_LT(worst, 1e-9) << "a remeshed vertex off the input (unit sphere)";
+  // the same request again, from a fresh heap and stack: the same mesh
+  const vcgext::StartMesh again = vcgext::ChooseStartMesh(sphere, vcgext::StartMeshParams{});
+  EXPECT_EQ(again.work.mesh.V, s.work.mesh.V);
 }

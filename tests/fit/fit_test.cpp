@@ -1048,3 +1048,25 @@ TEST(AdaptiveTiles, GradedPatchesGetEvenTexelsAndBeatOneR) {
   ASSERT_TRUE(point.error.empty());
   EXPECT_LE(MaxSeamMismatch(point.atlas, point.fit.control), 1.01 * point.atlas.scale + 1e-12);
 }
+
+// ResultWarnings: each threshold names its figure, none below them (bake_report.cpp).
+TEST(FitAndBake, ResultWarningsNameWhatIsFarOff) {
+  FitBakeResult r;
+  r.fit.patches = 436;
+  r.metrics.unprojectablePct = 0.5;
+  r.metrics.maxLimitPermille = 15;
+  r.metrics.rmsLimitPermille = 3;
+  r.metrics.rmsDisplacedPermille = 0.5;
+  EXPECT_TRUE(ResultWarnings(r).empty());
+  // oblong-shuffled.off's figures (2026-12-03): all three
+  r.metrics.unprojectablePct = 1.01;
+  r.metrics.maxLimitPermille = 203.8;
+  r.metrics.rmsLimitPermille = 53.07;
+  r.metrics.rmsDisplacedPermille = 39.42;
+  const std::vector<std::string> w = ResultWarnings(r);
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_NE(w[0].find("1.01 % of the reference area"), std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("up to 203.8 permille"), std::string::npos) << w[1];
+  EXPECT_NE(w[1].find("436 patches"), std::string::npos) << w[1];
+  EXPECT_NE(w[2].find("displaced surface stays 39.4 permille"), std::string::npos) << w[2];
+}

@@ -12,6 +12,8 @@
 #include <thread>
 #include <unordered_map>
 
+#include <Eigen/Geometry>
+
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
@@ -37,7 +39,13 @@ class DVertex : public vcg::Vertex<DUsedTypes, vcg::vertex::Coord3d, vcg::vertex
 };
 class DFace : public vcg::Face<DUsedTypes, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::VFAdj,
                                vcg::face::FFAdj, vcg::face::Mark, vcg::face::Qualityd, vcg::face::BitFlags> {};
-class DMesh : public vcg::tri::TriMesh<std::vector<DVertex>, std::vector<DFace>> {};
+// vcglib 2020.09's TriMesh never initialises its attribute counter `attrn` (only ClearAttributes
+// does): the ids of the temporary attributes (the isotropic remeshing's SelectionStack) would
+// start from stack garbage (valgrind). Set here.
+class DMesh : public vcg::tri::TriMesh<std::vector<DVertex>, std::vector<DFace>> {
+ public:
+  DMesh() { attrn = 0; }
+};
 
 using DPair = vcg::tri::BasicVertexPair<DVertex>;
 // One collapse type per concurrent decimation: vcglib keeps its heap's validity counter
@@ -149,7 +157,15 @@ DecimateResult Remesh(const TriData& m, int faces) {
   ip.SetTargetLen(std::sqrt(4.0 * area / (std::sqrt(3.0) * std::max(1, faces))));
   ip.SetFeatureAngleDeg(30);
   ip.iter = 5;
-  ip.surfDistCheck = false;  // its maxSurfDist has no default; projection onto the input keeps the shape
+  // No Hausdorff test on the moves (projection onto the input keeps the shape). maxSurfDist has no
+  // default in vcglib's Params, and ProjectToSurface reads it even with surfDistCheck off (its
+  // search radius is 1.5 maxSurfDist): left unset, the remesh depended on stack garbage (1250 to
+  // 1256 triangles on oblong-shuffled.off from run to run, found by CI and valgrind). The bbox
+  // diagonal: every vertex is projected onto its closest input point.
+  ip.surfDistCheck = false;
+  Eigen::AlignedBox3d box;
+  for (const Vec3& v : m.V) box.extend(v);
+  ip.maxSurfDist = box.diagonal().norm();
   vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
   vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);

@@ -20,6 +20,10 @@ class TFace : public vcg::Face<TUsedTypes, vcg::face::VertexRef, vcg::face::Norm
                                vcg::face::Color4b, vcg::face::FFAdj, vcg::face::VFAdj,
                                vcg::face::WedgeTexCoord2f, vcg::face::Mark, vcg::face::BitFlags> {};
 /// Triangle mesh with the same per-element data MeshLab's CMeshO can enable.
-class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>, std::vector<TEdge>> {};
+/// vcglib 2020.09's TriMesh leaves its attribute counter `attrn` uninitialised: set here.
+class TMesh : public vcg::tri::TriMesh<std::vector<TVertex>, std::vector<TFace>, std::vector<TEdge>> {
+ public:
+  TMesh() { attrn = 0; }
+};
 
 }  // namespace vcgext
