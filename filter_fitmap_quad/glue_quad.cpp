@@ -94,6 +94,9 @@ bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, in
   // A start too coarse (its cage keeps more than half its quads, its limit farther than tau):
   // refined (docs/quad.md "A start too coarse").
   p.startRmsPermille = 10.0 * tau;
+  // A cage still that far off, fitted: laid out again under a budget of its count (docs/quad.md
+  // "A cage far off").
+  p.rescueRmsPermille = 10.0 * tau;
   workingFaces = ctx.par.getInt(param::kWorkingFaces);
   if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
@@ -192,6 +195,7 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
             " patches: no collapse left that the checks allow (M-fitmap, thin-part guard, topology, flips)");
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);
+  ctx.Value("rescued_from_patches", r.rescuedFromPatches);
   ctx.Value("patches", r.patches);
   ctx.Value("irregular_vertices", r.irregularVertices);
   ctx.Value("initial_patches", r.initialPatches);
@@ -289,6 +293,7 @@ bool ApplyQuad(GlueContext& ctx) {
   times.push_back({"simplification", r.secondsSimplify});
   if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
   if (r.secondsStartRetries > 0) times.push_back({"start_refinement", r.secondsStartRetries});
+  if (r.secondsRescue > 0) times.push_back({"rescue_by_budget", r.secondsRescue});
   SetStageTimes(out->cm, times);
   StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
   memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 
+#include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/quad/simplify_internal.h"
 #include "vcg_ext/subdiv/limit_surface.h"
@@ -131,6 +132,16 @@ double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData&
   const FitResult f = FitCatmullClark(q, input, scene);
   if (!f.error.empty() || f.dataRmsPerIteration.empty()) return std::numeric_limits<double>::infinity();
   return *std::min_element(f.dataRmsPerIteration.begin(), f.dataRmsPerIteration.end());
+}
+
+double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q) {
+  const FitResult f = FitCatmullClark(q, input, scene);
+  if (!f.error.empty()) return std::numeric_limits<double>::infinity();
+  const LimitSurface ls = LimitSurface::FromQuads(f.control);
+  if (!ls.Ok() || ls.NumFaces() == 0) return std::numeric_limits<double>::infinity();
+  const int n = std::clamp(int(std::ceil(std::sqrt(2.0 * double(input.F.size()) / ls.NumFaces()))), 4,
+                           kMaxAutoMetricSegments);
+  return ReferenceToSurfaceError(input, TessellateLimit(ls, f.control.V, n).mesh).first;
 }
 
 QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, const EmbreeScene& scene,

@@ -94,6 +94,11 @@ struct QuadSimplifyParams {
   /// (SimplifyToQuads; docs/quad.md "A start too coarse"). The filter sets 10 tau (tau itself);
   /// 0 = off.
   double startRmsPermille = 10;
+  /// Equalized, no budget: a cage whose limit, fitted, still stays farther than this from the
+  /// input (RMS, 1/1000 of the bbox diagonal) after the guards and the start refinement is laid
+  /// out again under a budget of its own patch count, and that cage kept when, fitted, it is
+  /// closer (SimplifyToQuads; docs/quad.md "A cage far off"). The filter sets 10 tau; 0 = off.
+  double rescueRmsPermille = 10;
   /// Equalized: the count pass starts from the start mesh decimated to this many triangles
   /// (larger start meshes only; the count moves by ~2 % between 10k and 40k on bunny00).
   int countFaces = 10000;
@@ -194,6 +199,12 @@ struct QuadSimplifyResult {
   int startRefinements = 0;
   int startRefinedFrom = 0;
   double secondsStartRetries = 0;  ///< the passes from the coarser start(s) (kept or not), in secondsTotal
+  /// rescueRmsPermille: the far cage's patches and fitted RMS (absolute) when the budget's cage
+  /// replaced it (0: no rescue kept), and the seconds the check and the budget's pass took
+  /// (in secondsTotal; 0: the interpolating limit was near, no check).
+  int rescuedFromPatches = 0;
+  double rescuedFromRms = 0;
+  double secondsRescue = 0;
   /// Budget (targetPatches) the thin-part guard stopped above (the ladder, docs/quad.md "Budget
   /// ladder"): which retry the kept cage is — 1: the guard's tolerance doubled; 2: a start
   /// decimated to 4 x the budget in triangles (budgetStartFaces); 3: that start, the tolerance

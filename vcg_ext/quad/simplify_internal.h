@@ -61,6 +61,14 @@ double InterpolationRms(const TriData& input, const QuadData& q);
 /// when the fit fails.
 double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
 
+/// The report's limit error of cage q after the same fit: RMS distance of every input vertex to
+/// its closest point on the fitted limit (ReferenceToSurfaceError on a tessellation of about one
+/// vertex per input triangle, 4..32 segments per patch side), absolute; infinite when the fit
+/// fails. FittedRms measures the fit's own data rows, which leave out input vertices farther than
+/// the fit's projection reach (10 % of the diagonal): a cage that misses a part of the input
+/// entirely can look close by it (oblong-shuffled.off: 2.0 per mille by FittedRms, 53 by this).
+double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
+
 /// The coverage guard (QuadSimplifyParams::coverageRmsPermille, coverageUnprojectablePct): a
 /// cage `r` (simplified from `start`) whose interpolating limit leaves the input, or leaves part
 /// of it unreached by projection, is laid out again with twice the patches.
