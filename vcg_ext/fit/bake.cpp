@@ -3,7 +3,6 @@
 /// fit, tessellate, bake, texel fit, metrics, timings. The pieces: tessellate.cpp, atlas_layout.cpp,
 /// texel_space.cpp, texel_fit.cpp, renderer_grid.cpp, metrics.cpp, bake_report.cpp.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -11,6 +10,7 @@
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/core/memory.h"
 #include "vcg_ext/core/progress.h"
+#include "vcg_ext/core/stopwatch.h"
 #include "vcg_ext/fit/fit_internal.h"
 #include "vcg_ext/fit/renderer_grid.h"
 #include "vcg_ext/fit/texel_space.h"
@@ -18,11 +18,6 @@
 namespace vcgext {
 
 using namespace fitdetail;
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-}  // namespace
 
 DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                                    const EmbreeScene& scene, int R, double maxDist, bool normalMap) {

@@ -4,10 +4,10 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "vcg_ext/core/progress.h"
+#include "vcg_ext/core/stopwatch.h"
 #include <Eigen/Geometry>
 
 #include "vcg_ext/fit/fit_internal.h"
@@ -17,8 +17,6 @@
 namespace vcgext {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 using SpMat = Eigen::SparseMatrix<double>;
 using SpMatR = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 }  // namespace

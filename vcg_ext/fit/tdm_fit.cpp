@@ -18,12 +18,12 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include <Eigen/Geometry>
 
+#include "vcg_ext/core/stopwatch.h"
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/fit_internal.h"
 #include "vcg_ext/fit/sparse_solver.h"
@@ -32,8 +32,6 @@ namespace vcgext {
 namespace fitdetail {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 using SpMat = Eigen::SparseMatrix<double>;
 
 // One least-squares row: limit point Σ w[k]·X[idx[k]] pulled to `target` with metric Q.

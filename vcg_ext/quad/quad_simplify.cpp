@@ -5,7 +5,6 @@
 #include "vcg_ext/quad/quad_simplify.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -143,11 +142,10 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
   if (!(params.rescueRmsPermille > 0) || r.patches < 1) return r;
   if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
   if (!(r.layoutRms > far)) return r;  // the interpolating limit is near: the fitted one too
-  const auto t0 = std::chrono::steady_clock::now();
-  auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  const auto t0 = Clock::now();
   const double rFitted = FittedReferenceRms(input, scene, r.quads);
   if (!(rFitted > far)) {
-    r.secondsRescue = since();
+    r.secondsRescue = Since(t0);
     r.secondsTotal += r.secondsRescue;
     return r;
   }
@@ -173,7 +171,7 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
     g.message = r.message;
     std::swap(r, g);
   }
-  r.secondsRescue = since();  // the check and the budget's pass
+  r.secondsRescue = Since(t0);  // the check and the budget's pass
   r.secondsTotal = before + r.secondsRescue;
   AppendMessage(r.message, buf);
   return r;

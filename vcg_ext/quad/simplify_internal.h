@@ -8,21 +8,19 @@
 /// - budget_ladder.cpp: a patch budget and its retries (docs/quad.md "Budget ladder");
 /// - coverage.cpp: how closely a cage's limit follows the input, and the coverage guard.
 /// Not part of the public API.
-#include <chrono>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/progress.h"
+#include "vcg_ext/core/stopwatch.h"
 #include "vcg_ext/quad/layout_gate.h"
 #include "vcg_ext/quad/quad_simplify.h"
 
 namespace vcgext {
 namespace simplify_internal {
 
-using Clock = std::chrono::steady_clock;
-inline double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 /// Adds a note to a result's message ("; "-separated).
 void AppendMessage(std::string& message, const std::string& note);
