@@ -139,7 +139,7 @@ TEST(RunPipeline, BudgetLadderRefusesACageThatLostAPartAndReachesTheBudgetFromAC
 // refined at edge midpoints 737 patches at 2.49 (0.34 displaced, 0 %). spool.off: 429 patches
 // that stayed off, from the refined start 552 at 3.25 (0.48 displaced, 0.035 %). The log says so
 // and the stage is timed. (oblong-shuffled.off was the second mesh here until its isotropic start
-// was made deterministic: RemeshedStartLiesOnTheInput, and FarOffCageIsLaidOutAgainUnderABudget.)
+// was made deterministic: RemeshedStartLiesOnTheInput, and FarOffCageIsNotKeptSilently.)
 TEST(RunPipeline, StartTooCoarseForTheInputIsRefined) {
   for (const char* mesh : {"rotor.off", "spool.off"}) {
     SCOPED_TRACE(mesh);
@@ -155,21 +155,22 @@ TEST(RunPipeline, StartTooCoarseForTheInputIsRefined) {
 
 // A cage far off after the guards (docs/quad.md "A cage far off"), measured 2026-12-03:
 // oblong-shuffled.off (a box with a blind hole, a cone apex of valence 36: the start is an
-// isotropic remesh) kept 436 patches whose fitted limit stayed 53 per mille (RMS) from the part,
-// displaced 39, 1.0 % unprojectable (the fit's own data RMS said 2.0: it leaves out what is
-// beyond its reach). Laid out again under a 436-patch budget: 5.7 / 0.90 / 0.002 %. The log says
-// so; whatever the result, a limit or a displacement that far off is named in the log
-// (ResultWarnings' thresholds: 20 per mille max limit, 1 % unreached, 5 per mille RMS displaced).
-TEST(RunPipeline, FarOffCageIsLaidOutAgainUnderABudget) {
+// isotropic remesh) is the part whose result moved with the remesh's stack garbage (895 patches
+// at 1.8 per mille RMS limit, or 142 at 55) and, remeshed with the projection radius at the whole
+// diagonal, kept 436 patches 53 per mille off (the fit's own data RMS said 2.0) until
+// RescueByBudget laid it out again under a budget (5.7). With the radius at MeshLab's 1 %: 434
+// patches at 7.7 per mille, 1.0 displaced, 0.01 % unprojectable, the rescue not needed. The
+// contract, whatever the start: the limit within tau of the part (10 per mille, RMS) and a
+// limit or a displacement that far off named in the log (ResultWarnings' thresholds: 20 per
+// mille max limit, 5 per mille RMS displaced). RescueByBudget itself:
+// Coverage.RescueByBudgetReplacesACageThatMissesAPart.
+TEST(RunPipeline, FarOffCageIsNotKeptSilently) {
   const PipelineOutputs o = RunForReport("", "oblong-shuffled.off", "pipeline_far_oblong");
   ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
   EXPECT_NE(o.log.find("isotropic remesh"), std::string::npos) << o.log;
-  EXPECT_NE(o.log.find("laid out again under a 436-patch budget (436 patches)"), std::string::npos) << o.log;
-  EXPECT_NEAR(e2e::JsonNumber(o.json, "patches"), 436, 9) << o.json;
   EXPECT_LT(e2e::JsonNumber(o.json, "rms_limit_permille"), 10.0) << o.json;  // tau
   EXPECT_LT(e2e::JsonNumber(o.json, "rms_displaced_permille"), 1.5) << o.json;
   EXPECT_LE(e2e::JsonNumber(o.json, "unprojectable_pct"), 0.1) << o.json;
-  EXPECT_GT(e2e::JsonNumber(o.json, "rescue_by_budget"), 0) << "the pass is timed: " << o.json;
   ASSERT_GT(e2e::JsonNumber(o.json, "max_limit_permille"), 0) << o.json;
   if (e2e::JsonNumber(o.json, "max_limit_permille") > 20) {
     EXPECT_NE(o.log.find("the smooth limit surface stays up to"), std::string::npos) << o.log;

@@ -159,13 +159,15 @@ DecimateResult Remesh(const TriData& m, int faces) {
   ip.iter = 5;
   // No Hausdorff test on the moves (projection onto the input keeps the shape). maxSurfDist has no
   // default in vcglib's Params, and ProjectToSurface reads it even with surfDistCheck off (its
-  // search radius is 1.5 maxSurfDist): left unset, the remesh depended on stack garbage (1250 to
-  // 1256 triangles on oblong-shuffled.off from run to run, found by CI and valgrind). The bbox
-  // diagonal: every vertex is projected onto its closest input point.
+  // search radius is 1.5 maxSurfDist): left unset, the remesh depended on stack garbage (1 250 to
+  // 1 256 triangles on oblong-shuffled.off from run to run, found by CI and valgrind). 1 % of the
+  // bbox diagonal, MeshLab's own default for this filter. Not the whole diagonal: projecting from
+  // anywhere left a cone's apex (cone2000.off) at valence 277 with edges 5x the target, and its
+  // simplification ran past 300 s (docs/robustness.md "Same input, same result").
   ip.surfDistCheck = false;
   Eigen::AlignedBox3d box;
   for (const Vec3& v : m.V) box.extend(v);
-  ip.maxSurfDist = box.diagonal().norm();
+  ip.maxSurfDist = 0.01 * box.diagonal().norm();
   vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
   vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);

@@ -129,6 +129,10 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
   return CoverageGuard(input, start, scene, S, M, params, prog, initialQuads, std::move(res));
 }
 
+}  // namespace
+
+namespace simplify_internal {
+
 // A cage still far off after the coverage guard and the start refinement (docs/quad.md "A cage
 // far off"): its fitted limit stays farther than rescueRmsPermille from the input. The same count
 // is laid out again under a budget (the budget ladder's guards; no M-fitmap test) and that cage
@@ -177,7 +181,7 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
   return r;
 }
 
-}  // namespace
+}  // namespace simplify_internal
 
 // A start mesh too coarse for the input (docs/quad.md "A start too coarse"): the simplification
 // only removes patches, so the start bounds the cage. A cage that keeps more than half of its

@@ -67,6 +67,15 @@ double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData&
 /// entirely can look close by it (oblong-shuffled.off: 2.0 per mille by FittedRms, 53 by this).
 double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
 
+/// The end of SimplifyToQuads (quad_simplify.cpp, docs/quad.md "A cage far off"): when cage `r`'s
+/// interpolating limit and its fitted one (FittedReferenceRms) stay farther than
+/// params.rescueRmsPermille from the input, the same count is laid out again under a budget from
+/// `start` (nullptr: the input) and that cage returned when it is closer by the same measure;
+/// otherwise `r`, with the check's time and a log note.
+QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                  const std::vector<double>& M, const QuadSimplifyParams& params,
+                                  vcg::CallBackPos* cb, const TriData* start, QuadSimplifyResult r);
+
 /// The coverage guard (QuadSimplifyParams::coverageRmsPermille, coverageUnprojectablePct): a
 /// cage `r` (simplified from `start`) whose interpolating limit leaves the input, or leaves part
 /// of it unreached by projection, is laid out again with twice the patches.
