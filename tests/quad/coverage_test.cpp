@@ -198,6 +198,25 @@ TEST(QuadSimplify, CoverageGuardRelaysACageThatLeavesADisksRim) {
   EXPECT_NEAR(r1.coverageFromUnprojectablePct, u0, 0.25 * u0 + 0.6);
 }
 
+namespace {
+// Two unit spheres (icospheres of `level`), the second 10 along x: one input of two parts.
+vcgext::TriData TwoSpheres(int level) {
+  const vcgext::TriData a = testsupport::Icosphere(level);
+  vcgext::TriData ab = a;
+  for (const auto& v : a.V) ab.V.push_back(v + Vec3(10, 0, 0));
+  for (const auto& f : a.F) ab.F.push_back({f[0] + int(a.V.size()), f[1] + int(a.V.size()), f[2] + int(a.V.size())});
+  return ab;
+}
+// A 6-quad cube cage round the origin (corners at +-0.8), faces outward.
+vcgext::QuadData CubeCage() {
+  vcgext::QuadData cube;
+  for (int i = 0; i < 8; ++i) cube.V.push_back(0.8 * Vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+  cube.F = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  return cube;
+}
+
+}  // namespace
+
 // FittedReferenceRms (the budget rescue's judge, quad_simplify.cpp "A cage far off") against
 // FittedRms (the fit's own data rows): a 6-quad cube cage fitted to the unit sphere A of an input
 // that also holds a second unit sphere B 10 away. The fit cannot reach B (beyond 10 % of the
@@ -205,13 +224,8 @@ TEST(QuadSimplify, CoverageGuardRelaysACageThatLeavesADisksRim) {
 // B's vertices are |x| - 1 from the unit sphere, and the fitted limit of the cube cage stays within
 // 0.1 of it (A's own RMS, checked), so the RMS over A and B is known to +-0.1.
 TEST(Coverage, FittedReferenceRmsCountsWhatTheFitCannotReach) {
-  const vcgext::TriData a = testsupport::Icosphere(3);
-  vcgext::TriData ab = a;
-  for (const auto& v : a.V) ab.V.push_back(v + Vec3(10, 0, 0));
-  for (const auto& f : a.F) ab.F.push_back({f[0] + int(a.V.size()), f[1] + int(a.V.size()), f[2] + int(a.V.size())});
-  vcgext::QuadData cube;
-  for (int i = 0; i < 8; ++i) cube.V.push_back(0.8 * Vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
-  cube.F = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};  // outward
+  const vcgext::TriData a = testsupport::Icosphere(3), ab = TwoSpheres(3);
+  const vcgext::QuadData cube = CubeCage();
   for (const auto& f : cube.F) {  // (checked: each face's normal points away from the centre)
     const Vec3 n = (cube.V[f[1]] - cube.V[f[0]]).cross(cube.V[f[3]] - cube.V[f[0]]);
     ASSERT_GT(n.dot(cube.V[f[0]] + cube.V[f[2]]), 0);
@@ -237,13 +251,8 @@ TEST(Coverage, FittedReferenceRmsCountsWhatTheFitCannotReach) {
 // be met with two closed parts: the ladder stops above it) and is kept; a cage that is near is
 // returned as it was, without the check.
 TEST(Coverage, RescueByBudgetReplacesACageThatMissesAPart) {
-  const vcgext::TriData a = testsupport::Icosphere(2);
-  vcgext::TriData ab = a;
-  for (const auto& v : a.V) ab.V.push_back(v + Vec3(10, 0, 0));
-  for (const auto& f : a.F) ab.F.push_back({f[0] + int(a.V.size()), f[1] + int(a.V.size()), f[2] + int(a.V.size())});
-  vcgext::QuadData cube;
-  for (int i = 0; i < 8; ++i) cube.V.push_back(0.8 * Vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
-  cube.F = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const vcgext::TriData ab = TwoSpheres(2);
+  const vcgext::QuadData cube = CubeCage();
   std::vector<double> S, M;
   SyntheticFitmaps(ab, S, M);
   const vcgext::EmbreeScene scene(ab);
