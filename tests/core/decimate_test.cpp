@@ -8,6 +8,7 @@
 
 #include "test_support.h"
 #include "vcg_ext/core/decimate.h"
+#include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/input_prep.h"
 
 using vcgext::TriData;
@@ -34,28 +35,6 @@ int BorderEdgesOnTheSquare(const TriData& t) {
       }
     }
   return boundary;
-}
-// Distance from p to the triangle abc (brute force, Ericson's closest-point regions).
-double PointTriangleDistance(const vcgext::Vec3& p, const vcgext::Vec3& a, const vcgext::Vec3& b,
-                             const vcgext::Vec3& c) {
-  const vcgext::Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.norm();
-  const vcgext::Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
-  const vcgext::Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
-  const double den = 1 / (va + vb + vc);
-  return (p - (a + ab * (vb * den) + ac * (vc * den))).norm();
 }
 }  // namespace
 
@@ -210,7 +189,7 @@ TEST(StartMesh, RemeshedStartLiesOnTheInput) {
   for (const auto& v : s.work.mesh.V) {
     double d = 1e300;
     for (const auto& f : sphere.F)
-      d = std::min(d, PointTriangleDistance(v, sphere.V[f[0]], sphere.V[f[1]], sphere.V[f[2]]));
+      d = std::min(d, (vcgext::ClosestPointOnTriangle(v, sphere.V[f[0]], sphere.V[f[1]], sphere.V[f[2]]) - v).norm());
     worst = std::max(worst, d);
   }
   EXPECT_LT(worst, 1e-9) << "a remeshed vertex off the input (unit sphere)";

@@ -12,8 +12,6 @@
 #include <thread>
 #include <unordered_map>
 
-#include <Eigen/Geometry>
-
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
 #include <vcg/complex/algorithms/local_optimization/tri_edge_collapse_quadric.h>
@@ -165,9 +163,7 @@ DecimateResult Remesh(const TriData& m, int faces) {
   // anywhere left a cone's apex (cone2000.off) at valence 277 with edges 5x the target, and its
   // simplification ran past 300 s (docs/robustness.md "Same input, same result").
   ip.surfDistCheck = false;
-  Eigen::AlignedBox3d box;
-  for (const Vec3& v : m.V) box.extend(v);
-  ip.maxSurfDist = 0.01 * box.diagonal().norm();
+  ip.maxSurfDist = 0.01 * BBoxDiagonal(m.V);
   vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
   vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);

@@ -142,8 +142,8 @@ namespace simplify_internal {
 QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
                                   const std::vector<double>& M, const QuadSimplifyParams& params,
                                   vcg::CallBackPos* cb, const TriData* start, QuadSimplifyResult r) {
-  const double diag = BBoxDiagonal(input.V), far = params.rescueRmsPermille / 1000.0 * diag;
   if (!(params.rescueRmsPermille > 0) || r.patches < 1) return r;
+  const double diag = BBoxDiagonal(input.V), far = params.rescueRmsPermille / 1000.0 * diag;
   if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
   if (!(r.layoutRms > far)) return r;  // the interpolating limit is near: the fitted one too
   const auto t0 = Clock::now();

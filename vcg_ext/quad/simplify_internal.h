@@ -21,7 +21,6 @@
 namespace vcgext {
 namespace simplify_internal {
 
-
 /// Adds a note to a result's message ("; "-separated).
 void AppendMessage(std::string& message, const std::string& note);
 
