@@ -208,7 +208,8 @@ struct QuadSimplifyResult {
   /// Budget (targetPatches) the thin-part guard stopped above (the ladder, docs/quad.md "Budget
   /// ladder"): which retry the kept cage is — 1: the guard's tolerance doubled; 2: a start
   /// decimated to 4 x the budget in triangles (budgetStartFaces); 3: that start, the tolerance
-  /// doubled —, its guard factor (deviationFactor), and the patches the first pass stopped at.
+  /// doubled; 4: a start of 2.5 x the budget in triangles, the tolerance doubled —, its guard
+  /// factor (deviationFactor), and the patches the first pass stopped at.
   /// 0 / -1 / 0 / 0: the first pass's cage.
   int budgetRelaxations = 0;
   double budgetDeviationFactor = -1;
