@@ -107,18 +107,12 @@ inline void Rot60(int& i, int& j) {  // (1,0)->(0,1)->(-1,1)->(-1,0)->...
   j = nj;
 }
 
-/// Regularity test and gathering of the 12 control points (with ghosts across a straight crease).
-bool Gather(const LNet& n, Vec3 X[12]) {
-  const int nf = int(n.F.size()), nv = int(n.P.size());
-  const Tri& T = n.F[n.target];
-  // corners must be smooth or crease
-  for (int k = 0; k < 3; ++k)
-    if (n.type[T[k]] == (unsigned char)LoopVertexType::Corner) return false;
-  // A regular patch lives in at most 64 faces (the breadth-first search below); a larger net is
-  // irregular. Tested before the quadratic adjacency search: the nets round a vertex of valence
-  // 2000 have ~4000 faces.
-  if (nf > 64) return false;
-  // face adjacency inside the net
+// Lattice coordinate of a net vertex not (yet) placed on the lattice.
+constexpr int kUnplaced = 1 << 20;
+
+// Face adjacency inside a local net: the face across each edge, -1 if none.
+std::vector<std::array<int, 3>> NetAdjacency(const LNet& n) {
+  const int nf = int(n.F.size());
   std::vector<std::array<int, 3>> adj(nf, {-1, -1, -1});
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
@@ -129,93 +123,139 @@ bool Gather(const LNet& n, Vec3 X[12]) {
           if (n.F[g][j] == b && n.F[g][(j + 1) % 3] == a) { adj[f][k] = g; break; }
       }
     }
-  const int UN = 1 << 20;
-  std::vector<std::array<int, 2>> co(nv, {UN, UN});
+  return adj;
+}
+
+// A local net laid out on the lattice: vertex coordinates and the faces reached.
+struct Unfolding {
+  std::vector<std::array<int, 2>> co;  ///< per vertex; kUnplaced where not reached
+  std::vector<char> vis;               ///< per face: reached from the target
+};
+
+// Places the vertex of face g opposite its edge (b, a) at b + Rot60(a - b); false on a clash.
+bool PlaceApex(const LNet& n, int g, int a, int b, std::vector<std::array<int, 2>>& co) {
+  int x = -1;
+  for (int j = 0; j < 3; ++j)
+    if (n.F[g][j] != a && n.F[g][j] != b) x = n.F[g][j];
+  int di = co[a][0] - co[b][0], dj = co[a][1] - co[b][1];
+  Rot60(di, dj);
+  std::array<int, 2> cx = {co[b][0] + di, co[b][1] + dj};
+  if (co[x][0] == kUnplaced) co[x] = cx;
+  else if (co[x] != cx) return false;
+  return true;
+}
+
+// Lays the net onto the lattice by a breadth-first search across soft edges; false on a clash.
+bool Unfold(const LNet& n, Unfolding& u) {
+  const int nf = int(n.F.size()), nv = int(n.P.size());
+  const Tri& T = n.F[n.target];
+  const std::vector<std::array<int, 3>> adj = NetAdjacency(n);
+  std::vector<std::array<int, 2>>& co = u.co;
+  co.assign(nv, {kUnplaced, kUnplaced});
   co[T[0]] = {0, 0};
   co[T[1]] = {1, 0};
   co[T[2]] = {0, 1};
-  std::vector<char> vis(nf, 0);
+  u.vis.assign(nf, 0);
   int queue[64], qh = 0, qt = 0;
   queue[qt++] = n.target;
-  vis[n.target] = 1;
+  u.vis[n.target] = 1;
   while (qh < qt) {
     int f = queue[qh++];
     for (int k = 0; k < 3; ++k) {
       if (n.H[f][k]) continue;
       int g = adj[f][k];
-      if (g < 0 || vis[g]) continue;
-      int a = n.F[f][k], b = n.F[f][(k + 1) % 3];
-      int x = -1;
-      for (int j = 0; j < 3; ++j)
-        if (n.F[g][j] != a && n.F[g][j] != b) x = n.F[g][j];
-      int di = co[a][0] - co[b][0], dj = co[a][1] - co[b][1];
-      Rot60(di, dj);
-      std::array<int, 2> cx = {co[b][0] + di, co[b][1] + dj};
-      if (co[x][0] == UN) co[x] = cx;
-      else if (co[x] != cx) return false;
-      vis[g] = 1;
+      if (g < 0 || u.vis[g]) continue;
+      if (!PlaceApex(n, g, n.F[f][k], n.F[f][(k + 1) % 3], co)) return false;
+      u.vis[g] = 1;
       queue[qt++] = g;
     }
   }
-  // corner checks
-  bool haveLine = false;
+  return true;
+}
+
+// The straight crease line through the patch, if any: a lattice point and a direction.
+struct CreaseLine {
+  bool have = false;
   int lp[2] = {0, 0}, ld[2] = {0, 0};
-  for (int k = 0; k < 3; ++k) {
-    int c = T[k];
-    int incident = 0, visited = 0;
-    int nh = 0;
-    for (int f = 0; f < nf; ++f)
-      for (int j = 0; j < 3; ++j)
-        if (n.F[f][j] == c) {
-          ++incident;
-          if (vis[f]) ++visited;
-          if (n.H[f][j]) ++nh;
-          if (n.H[f][(j + 2) % 3]) ++nh;
-        }
-    if (n.type[c] == (unsigned char)LoopVertexType::Smooth) {
-      if (incident != 6 || visited != 6 || nh != 0) return false;
-    } else {  // crease: 3 faces on this side, two collinear hard edges
-      if (visited != 3) return false;
-      // distinct hard neighbours among visited faces
-      int a = -1, b = -1;
-      for (int f = 0; f < nf; ++f) {
-        if (!vis[f]) continue;
-        for (int j = 0; j < 3; ++j)
-          if (n.F[f][j] == c) {
-            if (n.H[f][j]) { int o = n.F[f][(j + 1) % 3]; if (a < 0) a = o; else if (o != a) b = o; }
-            if (n.H[f][(j + 2) % 3]) { int o = n.F[f][(j + 2) % 3]; if (a < 0) a = o; else if (o != a) b = o; }
-          }
+  // Side of the line of lattice point (i, j): the sign of the cross product, 0 on the line.
+  int Side(int i, int j) const { return ld[0] * (j - lp[1]) - ld[1] * (i - lp[0]); }
+};
+
+// Faces incident to corner c (all, reached ones) and hard edges at c counted from each face.
+void CountCornerFaces(const LNet& n, const std::vector<char>& vis, int c, int& incident, int& visited, int& nh) {
+  const int nf = int(n.F.size());
+  for (int f = 0; f < nf; ++f)
+    for (int j = 0; j < 3; ++j)
+      if (n.F[f][j] == c) {
+        ++incident;
+        if (vis[f]) ++visited;
+        if (n.H[f][j]) ++nh;
+        if (n.H[f][(j + 2) % 3]) ++nh;
       }
-      if (a < 0 || b < 0) return false;
-      if (co[a][0] + co[b][0] != 2 * co[c][0] || co[a][1] + co[b][1] != 2 * co[c][1]) return false;
-      int d[2] = {co[a][0] - co[c][0], co[a][1] - co[c][1]};
-      if (!haveLine) {
-        haveLine = true;
-        lp[0] = co[c][0]; lp[1] = co[c][1]; ld[0] = d[0]; ld[1] = d[1];
-      } else {
-        // same line: direction parallel and c on it
-        if (ld[0] * d[1] - ld[1] * d[0] != 0) return false;
-        if (ld[0] * (co[c][1] - lp[1]) - ld[1] * (co[c][0] - lp[0]) != 0) return false;
+}
+
+// The two distinct hard-edge neighbours a, b of crease corner c among the reached faces.
+bool HardNeighbours(const LNet& n, const std::vector<char>& vis, int c, int& a, int& b) {
+  const int nf = int(n.F.size());
+  a = -1;
+  b = -1;
+  for (int f = 0; f < nf; ++f) {
+    if (!vis[f]) continue;
+    for (int j = 0; j < 3; ++j)
+      if (n.F[f][j] == c) {
+        if (n.H[f][j]) { int o = n.F[f][(j + 1) % 3]; if (a < 0) a = o; else if (o != a) b = o; }
+        if (n.H[f][(j + 2) % 3]) { int o = n.F[f][(j + 2) % 3]; if (a < 0) a = o; else if (o != a) b = o; }
       }
-    }
   }
-  auto side = [&](int i, int j) { return ld[0] * (j - lp[1]) - ld[1] * (i - lp[0]); };
+  return a >= 0 && b >= 0;
+}
+
+// Whether c lies midway between a and b on the (first, else the same) straight crease line.
+bool OnCreaseLine(const std::vector<std::array<int, 2>>& co, int a, int b, int c, CreaseLine& line) {
+  if (co[a][0] + co[b][0] != 2 * co[c][0] || co[a][1] + co[b][1] != 2 * co[c][1]) return false;
+  int d[2] = {co[a][0] - co[c][0], co[a][1] - co[c][1]};
+  if (!line.have) {
+    line.have = true;
+    line.lp[0] = co[c][0]; line.lp[1] = co[c][1]; line.ld[0] = d[0]; line.ld[1] = d[1];
+    return true;
+  }
+  // same line: direction parallel and c on it
+  if (line.ld[0] * d[1] - line.ld[1] * d[0] != 0) return false;
+  if (line.ld[0] * (co[c][1] - line.lp[1]) - line.ld[1] * (co[c][0] - line.lp[0]) != 0) return false;
+  return true;
+}
+
+// Whether corner c is regular: smooth of valence 6, or a crease with 3 faces on a straight line.
+bool CornerIsRegular(const LNet& n, const Unfolding& u, int c, CreaseLine& line) {
+  int incident = 0, visited = 0, nh = 0;
+  CountCornerFaces(n, u.vis, c, incident, visited, nh);
+  if (n.type[c] == (unsigned char)LoopVertexType::Smooth) return incident == 6 && visited == 6 && nh == 0;
+  // crease: 3 faces on this side, two collinear hard edges
+  if (visited != 3) return false;
+  int a = -1, b = -1;
+  if (!HardNeighbours(n, u.vis, c, a, b)) return false;
+  return OnCreaseLine(u.co, a, b, c, line);
+}
+
+// Side of the crease line the target lies on (+-1; 0 if all its corners are on the line).
+int TargetSide(const Tri& T, const std::vector<std::array<int, 2>>& co, const CreaseLine& line) {
+  // centroid*3 test with corners (at least one corner off the line)
   int tside = 0;
-  if (haveLine) {
-    // side of the target: centroid*3 test with corners (at least one corner off the line)
-    for (int k = 0; k < 3; ++k) {
-      int s = side(co[T[k]][0], co[T[k]][1]);
-      if (s != 0) tside = s > 0 ? 1 : -1;
-    }
-    if (tside == 0) return false;
+  for (int k = 0; k < 3; ++k) {
+    int s = line.Side(co[T[k]][0], co[T[k]][1]);
+    if (s != 0) tside = s > 0 ? 1 : -1;
   }
-  // assemble the 12 nodes
-  int idx[12];
+  return tside;
+}
+
+// Net vertex of each of the 12 nodes (-1 if none); false on a clash or a vertex past the crease.
+bool MatchNodes(const std::vector<std::array<int, 2>>& co, const CreaseLine& line, int tside, int idx[12]) {
+  const int nv = int(co.size());
   for (int m = 0; m < 12; ++m) idx[m] = -1;
   for (int v = 0; v < nv; ++v) {
-    if (co[v][0] == UN) continue;
-    if (haveLine) {
-      int s = side(co[v][0], co[v][1]);
+    if (co[v][0] == kUnplaced) continue;
+    if (line.have) {
+      int s = line.Side(co[v][0], co[v][1]);
       if (s * tside < 0) return false;  // reached the other side around the end of the crease
     }
     for (int m = 0; m < 12; ++m)
@@ -224,36 +264,75 @@ bool Gather(const LNet& n, Vec3 X[12]) {
         idx[m] = v;
       }
   }
-  auto find = [&](int i, int j) {
-    for (int v = 0; v < nv; ++v)
-      if (co[v][0] == i && co[v][1] == j) return v;
-    return -1;
-  };
+  return true;
+}
+
+// Net vertex at lattice point (i, j), -1 if none.
+int VertexAt(const std::vector<std::array<int, 2>>& co, int i, int j) {
+  const int nv = int(co.size());
+  for (int v = 0; v < nv; ++v)
+    if (co[v][0] == i && co[v][1] == j) return v;
+  return -1;
+}
+
+// The two lattice neighbours of (gi, gj) on the crease line: (ai, aj), (bi, bj); false if not two.
+bool NeighboursOnLine(const CreaseLine& line, int gi, int gj, int& ai, int& aj, int& bi, int& bj) {
+  int cand[2], nc = 0;
+  int di = 1, dj = 0;
+  for (int r = 0; r < 6; ++r, Rot60(di, dj)) {
+    int qi = gi + di, qj = gj + dj;
+    if (line.Side(qi, qj) == 0 && nc < 2) cand[nc++] = r;
+  }
+  if (nc != 2) return false;
+  ai = gi; aj = gj; bi = gi; bj = gj;
+  int ti = 1, tj = 0;
+  for (int r = 0; r < 6; ++r, Rot60(ti, tj)) {
+    if (r == cand[0]) { ai = gi + ti; aj = gj + tj; }
+    if (r == cand[1]) { bi = gi + ti; bj = gj + tj; }
+  }
+  return true;
+}
+
+// Ghost point of missing node m just across the crease: a + b - c (the apex c on the target side).
+bool GhostPoint(const LNet& n, const std::vector<std::array<int, 2>>& co, const CreaseLine& line, int tside,
+                int m, Vec3& X) {
+  int gi = kNode[m][0], gj = kNode[m][1];
+  int s = line.Side(gi, gj);
+  if (s * tside >= 0 || std::abs(s) != 1) return false;
+  // the two lattice neighbours of g on the line, and the apex on the target side
+  int ai = 0, aj = 0, bi = 0, bj = 0;
+  if (!NeighboursOnLine(line, gi, gj, ai, aj, bi, bj)) return false;
+  int a = VertexAt(co, ai, aj), b = VertexAt(co, bi, bj), c = VertexAt(co, ai + bi - gi, aj + bj - gj);
+  if (a < 0 || b < 0 || c < 0) return false;
+  X = n.P[a] + n.P[b] - n.P[c];
+  return true;
+}
+
+/// Regularity test and gathering of the 12 control points (with ghosts across a straight crease).
+bool Gather(const LNet& n, Vec3 X[12]) {
+  const Tri& T = n.F[n.target];
+  // corners must be smooth or crease
+  for (int k = 0; k < 3; ++k)
+    if (n.type[T[k]] == (unsigned char)LoopVertexType::Corner) return false;
+  // A regular patch lives in at most 64 faces (the breadth-first search below); a larger net is
+  // irregular. Tested before the quadratic adjacency search: the nets round a vertex of valence
+  // 2000 have ~4000 faces.
+  if (int(n.F.size()) > 64) return false;
+  Unfolding u;
+  if (!Unfold(n, u)) return false;
+  CreaseLine line;
+  for (int k = 0; k < 3; ++k)
+    if (!CornerIsRegular(n, u, T[k], line)) return false;
+  int tside = 0;
+  if (line.have) {
+    tside = TargetSide(T, u.co, line);
+    if (tside == 0) return false;
+  }
+  int idx[12];
+  if (!MatchNodes(u.co, line, tside, idx)) return false;
   for (int m = 0; m < 12; ++m) {
     if (idx[m] >= 0) { X[m] = n.P[idx[m]]; continue; }
-    if (!haveLine) return false;
-    int gi = kNode[m][0], gj = kNode[m][1];
-    int s = side(gi, gj);
-    if (s * tside >= 0 || std::abs(s) != 1) return false;
-    // the two lattice neighbours of g on the line, and the apex on the target side
-    int cand[2], nc = 0;
-    int di = 1, dj = 0;
-    for (int r = 0; r < 6; ++r, Rot60(di, dj)) {
-      int qi = gi + di, qj = gj + dj;
-      if (side(qi, qj) == 0 && nc < 2) cand[nc++] = r;
-    }
-    if (nc != 2) return false;
-    int ai = gi, aj = gj, bi = gi, bj = gj;
-    {
-      int ti = 1, tj = 0;
-      for (int r = 0; r < 6; ++r, Rot60(ti, tj)) {
-        if (r == cand[0]) { ai = gi + ti; aj = gj + tj; }
-        if (r == cand[1]) { bi = gi + ti; bj = gj + tj; }
-      }
-    }
-    int a = find(ai, aj), b = find(bi, bj), c = find(ai + bi - gi, aj + bj - gj);
-    if (a < 0 || b < 0 || c < 0) return false;
-    X[m] = n.P[a] + n.P[b] - n.P[c];
+    if (!line.have || !GhostPoint(n, u.co, line, tside, m, X[m])) return false;
   }
   return true;
 }
@@ -263,104 +342,110 @@ double LoopBeta(int k) {
   return (0.625 - t * t) / k;
 }
 
-/// One step of local Loop subdivision: the net of sub-triangle `child` (0..2 corner c_child, 3 middle).
-LNet Subdivide(const LNet& n, int child) {
-  const Tri T = n.F[n.target];
-  auto isCorner = [&](int v) { return v == T[0] || v == T[1] || v == T[2]; };
-  const int nv = int(n.P.size());
-  LNet out;
-  // new vertex ids: vertex points of corners, edge points of edges touching a corner
-  int vp[3];
-  for (int k = 0; k < 3; ++k) {
-    int c = T[k];
-    Vec3 sum = Vec3::Zero();
-    int val = 0;
-    Vec3 hsum = Vec3::Zero();
-    int nh = 0;
-    for (size_t f = 0; f < n.F.size(); ++f)
-      for (int j = 0; j < 3; ++j)
-        if (n.F[f][j] == c) {
-          ++val;
-          sum += n.P[n.F[f][(j + 1) % 3]];  // each ring vertex once (closed fan)
-          if (n.H[f][j]) { hsum += n.P[n.F[f][(j + 1) % 3]]; ++nh; }
-          if (n.H[f][(j + 2) % 3]) { hsum += n.P[n.F[f][(j + 2) % 3]]; ++nh; }
+// Smooth Loop vertex point of c: (1 - k beta) c + beta * (sum of its k ring vertices).
+Vec3 SmoothVertexPoint(const LNet& n, int c) {
+  Vec3 sum = Vec3::Zero();
+  int val = 0;
+  for (size_t f = 0; f < n.F.size(); ++f)
+    for (int j = 0; j < 3; ++j)
+      if (n.F[f][j] == c) {
+        ++val;
+        sum += n.P[n.F[f][(j + 1) % 3]];  // each ring vertex once (closed fan)
+      }
+  double b = LoopBeta(val);
+  return (1.0 - val * b) * n.P[c] + b * sum;
+}
+
+// Crease vertex point of c: (a + 6 c + b) / 8 with its two distinct hard neighbours, else c.
+Vec3 CreaseVertexPoint(const LNet& n, int c) {
+  // each hard edge seen from both of its faces, except on a boundary: average distinct ones
+  Vec3 hs = Vec3::Zero();
+  int cnt = 0;
+  int seen[4], ns = 0;
+  for (size_t f = 0; f < n.F.size(); ++f)
+    for (int j = 0; j < 3; ++j)
+      if (n.F[f][j] == c) {
+        int cands[2] = {n.H[f][j] ? n.F[f][(j + 1) % 3] : -1, n.H[f][(j + 2) % 3] ? n.F[f][(j + 2) % 3] : -1};
+        for (int o : cands) {
+          if (o < 0) continue;
+          bool dup = false;
+          for (int s = 0; s < ns; ++s) dup |= seen[s] == o;
+          if (!dup && ns < 4) { seen[ns++] = o; hs += n.P[o]; ++cnt; }
         }
-    Vec3 p;
-    unsigned char t = n.type[c];
-    if (t == (unsigned char)LoopVertexType::Smooth) {
-      double b = LoopBeta(val);
-      p = (1.0 - val * b) * n.P[c] + b * sum;
-    } else if (t == (unsigned char)LoopVertexType::Crease) {
-      // each hard edge seen from both of its faces, except on a boundary: average distinct ones
-      // (hsum holds each hard neighbour once or twice; normalise to the two neighbours)
-      Vec3 hs = Vec3::Zero();
-      int cnt = 0;
-      int seen[4], ns = 0;
-      for (size_t f = 0; f < n.F.size(); ++f)
-        for (int j = 0; j < 3; ++j)
-          if (n.F[f][j] == c) {
-            int cands[2] = {n.H[f][j] ? n.F[f][(j + 1) % 3] : -1, n.H[f][(j + 2) % 3] ? n.F[f][(j + 2) % 3] : -1};
-            for (int o : cands) {
-              if (o < 0) continue;
-              bool dup = false;
-              for (int s = 0; s < ns; ++s) dup |= seen[s] == o;
-              if (!dup && ns < 4) { seen[ns++] = o; hs += n.P[o]; ++cnt; }
-            }
-          }
-      (void)hsum;
-      (void)nh;
-      p = cnt == 2 ? Vec3((hs + 6.0 * n.P[c]) / 8.0) : n.P[c];
-    } else {
-      p = n.P[c];
-    }
-    vp[k] = int(out.P.size());
-    out.P.push_back(p);
-    out.type.push_back(t);
-  }
-  // edges
+      }
+  return cnt == 2 ? Vec3((hs + 6.0 * n.P[c]) / 8.0) : n.P[c];
+}
+
+// Vertex point of corner c by its type (smooth rule, crease rule; hard vertices stay fixed).
+Vec3 VertexPoint(const LNet& n, int c) {
+  const unsigned char t = n.type[c];
+  if (t == (unsigned char)LoopVertexType::Smooth) return SmoothVertexPoint(n, c);
+  if (t == (unsigned char)LoopVertexType::Crease) return CreaseVertexPoint(n, c);
+  return n.P[c];
+}
+
+// Whether v is a corner of T.
+inline bool IsCornerOf(const Tri& T, int v) { return v == T[0] || v == T[1] || v == T[2]; }
+
+// The edge points of one subdivision step: one new vertex per edge touching a target corner.
+struct EdgePoints {
   struct E { int a, b, id; };
   std::vector<E> edges;
   // edge (a < b) -> new vertex id; a hash map, not a scan of `edges`: the net round a vertex of
   // valence N has ~N such edges and ~2N faces, so a scan made each step O(N^2)
-  std::unordered_map<int64_t, int> edgeIds;
-  edgeIds.reserve(2 * n.F.size());
-  auto edgeKey = [nv](int a, int b) { return int64_t(std::min(a, b)) * nv + std::max(a, b); };
-  auto edgeId = [&](int a, int b) {
-    const auto it = edgeIds.find(edgeKey(a, b));
-    return it == edgeIds.end() ? -1 : it->second;
-  };
-  std::vector<Vec3> opp;
-  std::vector<int> oppCount;
-  std::vector<unsigned char> ehard;
+  std::unordered_map<int64_t, int> ids;
+  std::vector<Vec3> opp;             ///< per edge point: sum of the opposite vertices
+  std::vector<int> oppCount;         ///< per edge point: faces seen
+  std::vector<unsigned char> ehard;  ///< per edge point: the edge is hard
+  int nv = 0;                        ///< vertices of the coarse net (key stride)
+  // Key of the undirected edge (a, b).
+  int64_t Key(int a, int b) const { return int64_t(std::min(a, b)) * nv + std::max(a, b); }
+  // New vertex id of edge (a, b), -1 if not registered.
+  int Id(int a, int b) const {
+    const auto it = ids.find(Key(a, b));
+    return it == ids.end() ? -1 : it->second;
+  }
+};
+
+// Registers the edges touching a target corner (new vertices of `out`), summing opposite vertices.
+void CollectEdges(const LNet& n, const Tri& T, EdgePoints& ep, LNet& out) {
+  ep.nv = int(n.P.size());
+  ep.ids.reserve(2 * n.F.size());
   for (size_t f = 0; f < n.F.size(); ++f)
     for (int j = 0; j < 3; ++j) {
       int a = n.F[f][j], b = n.F[f][(j + 1) % 3], o = n.F[f][(j + 2) % 3];
-      if (!isCorner(a) && !isCorner(b)) continue;
-      int id = edgeId(a, b);
+      if (!IsCornerOf(T, a) && !IsCornerOf(T, b)) continue;
+      int id = ep.Id(a, b);
       if (id < 0) {
         id = int(out.P.size());
-        edges.push_back({std::min(a, b), std::max(a, b), id});
-        edgeIds.emplace(edgeKey(a, b), id);
+        ep.edges.push_back({std::min(a, b), std::max(a, b), id});
+        ep.ids.emplace(ep.Key(a, b), id);
         out.P.push_back(Vec3::Zero());
         out.type.push_back(n.H[f][j] ? (unsigned char)LoopVertexType::Crease : (unsigned char)LoopVertexType::Smooth);
-        opp.push_back(Vec3::Zero());
-        oppCount.push_back(0);
-        ehard.push_back(n.H[f][j]);
+        ep.opp.push_back(Vec3::Zero());
+        ep.oppCount.push_back(0);
+        ep.ehard.push_back(n.H[f][j]);
       }
       int e = id - 3;
-      opp[e] += n.P[o];
-      oppCount[e]++;
-      ehard[e] |= n.H[f][j];
+      ep.opp[e] += n.P[o];
+      ep.oppCount[e]++;
+      ep.ehard[e] |= n.H[f][j];
     }
-  for (const E& e : edges) {
+}
+
+// Places the edge points: midpoint on hard or boundary edges, else 3/8 (a + b) + 1/8 (opposites).
+void PlaceEdgePoints(const LNet& n, const EdgePoints& ep, LNet& out) {
+  for (const EdgePoints::E& e : ep.edges) {
     int k = e.id - 3;
-    if (ehard[k] || oppCount[k] != 2) out.P[e.id] = 0.5 * (n.P[e.a] + n.P[e.b]);
-    else out.P[e.id] = 0.375 * (n.P[e.a] + n.P[e.b]) + 0.125 * opp[k];
-    out.type[e.id] = ehard[k] ? (unsigned char)LoopVertexType::Crease : (unsigned char)LoopVertexType::Smooth;
+    if (ep.ehard[k] || ep.oppCount[k] != 2) out.P[e.id] = 0.5 * (n.P[e.a] + n.P[e.b]);
+    else out.P[e.id] = 0.375 * (n.P[e.a] + n.P[e.b]) + 0.125 * ep.opp[k];
+    out.type[e.id] = ep.ehard[k] ? (unsigned char)LoopVertexType::Crease : (unsigned char)LoopVertexType::Smooth;
   }
-  auto vpOf = [&](int v) { for (int k = 0; k < 3; ++k) if (T[k] == v) return vp[k]; return -1; };
-  // child corners
-  int e01 = edgeId(T[0], T[1]), e12 = edgeId(T[1], T[2]), e20 = edgeId(T[2], T[0]);
+}
+
+// Corners of sub-triangle `child` (0..2 at corner c_child, 3 middle) as new vertex ids.
+Tri ChildTriangle(const Tri& T, const int vp[3], const EdgePoints& ep, int child) {
+  int e01 = ep.Id(T[0], T[1]), e12 = ep.Id(T[1], T[2]), e20 = ep.Id(T[2], T[0]);
   Tri ct;
   switch (child) {
     case 0: ct = {vp[0], e01, e20}; break;
@@ -368,53 +453,95 @@ LNet Subdivide(const LNet& n, int child) {
     case 2: ct = {vp[2], e20, e12}; break;
     default: ct = {e12, e20, e01}; break;
   }
-  auto isChildCorner = [&](int v) { return v == ct[0] || v == ct[1] || v == ct[2]; };
+  return ct;
+}
+
+// Faces of the child's net (new vertex ids) and which one is its target.
+struct ChildFaces {
   std::vector<Tri> F;
   std::vector<std::array<unsigned char, 3>> H;
   int target = -1;
-  auto add = [&](Tri t, std::array<unsigned char, 3> h) {
-    if (t[0] < 0 || t[1] < 0 || t[2] < 0) return;
-    if (!isChildCorner(t[0]) && !isChildCorner(t[1]) && !isChildCorner(t[2])) return;
-    // target face: rotate to ct order
-    for (int r = 0; r < 3; ++r)
-      if (t[r] == ct[0] && t[(r + 1) % 3] == ct[1] && t[(r + 2) % 3] == ct[2]) {
-        Tri tt = {t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
-        std::array<unsigned char, 3> hh = {h[r], h[(r + 1) % 3], h[(r + 2) % 3]};
-        target = int(F.size());
-        F.push_back(tt);
-        H.push_back(hh);
-        return;
-      }
-    F.push_back(t);
-    H.push_back(h);
-  };
+};
+
+// Keeps fine face t (hard flags h) if complete and touching a corner of ct; the target in ct's order.
+void AddChildFace(const Tri& ct, Tri t, std::array<unsigned char, 3> h, ChildFaces& cf) {
+  auto isChildCorner = [&](int v) { return v == ct[0] || v == ct[1] || v == ct[2]; };
+  if (t[0] < 0 || t[1] < 0 || t[2] < 0) return;
+  if (!isChildCorner(t[0]) && !isChildCorner(t[1]) && !isChildCorner(t[2])) return;
+  // target face: rotate to ct order
+  for (int r = 0; r < 3; ++r)
+    if (t[r] == ct[0] && t[(r + 1) % 3] == ct[1] && t[(r + 2) % 3] == ct[2]) {
+      Tri tt = {t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+      std::array<unsigned char, 3> hh = {h[r], h[(r + 1) % 3], h[(r + 2) % 3]};
+      cf.target = int(cf.F.size());
+      cf.F.push_back(tt);
+      cf.H.push_back(hh);
+      return;
+    }
+  cf.F.push_back(t);
+  cf.H.push_back(h);
+}
+
+// Vertex point id of target corner v, -1 if v is not a corner.
+int VertexPointOf(const Tri& T, const int vp[3], int v) {
+  for (int k = 0; k < 3; ++k)
+    if (T[k] == v) return vp[k];
+  return -1;
+}
+
+// Splits each coarse face into its 4 children and keeps those touching the child triangle ct.
+void BuildChildFaces(const LNet& n, const Tri& T, const int vp[3], const EdgePoints& ep, const Tri& ct,
+                     ChildFaces& cf) {
   for (size_t f = 0; f < n.F.size(); ++f) {
     int a = n.F[f][0], b = n.F[f][1], c = n.F[f][2];
-    int eab = (isCorner(a) || isCorner(b)) ? edgeId(a, b) : -1;
-    int ebc = (isCorner(b) || isCorner(c)) ? edgeId(b, c) : -1;
-    int eca = (isCorner(c) || isCorner(a)) ? edgeId(c, a) : -1;
+    const bool ca = IsCornerOf(T, a), cb = IsCornerOf(T, b), cc = IsCornerOf(T, c);
+    int eab = (ca || cb) ? ep.Id(a, b) : -1;
+    int ebc = (cb || cc) ? ep.Id(b, c) : -1;
+    int eca = (cc || ca) ? ep.Id(c, a) : -1;
     const auto& h = n.H[f];
-    if (isCorner(a)) add({vpOf(a), eab, eca}, {h[0], 0, h[2]});
-    if (isCorner(b)) add({vpOf(b), ebc, eab}, {h[1], 0, h[0]});
-    if (isCorner(c)) add({vpOf(c), eca, ebc}, {h[2], 0, h[1]});
-    add({eab, ebc, eca}, {0, 0, 0});
+    if (ca) AddChildFace(ct, {VertexPointOf(T, vp, a), eab, eca}, {h[0], 0, h[2]}, cf);
+    if (cb) AddChildFace(ct, {VertexPointOf(T, vp, b), ebc, eab}, {h[1], 0, h[0]}, cf);
+    if (cc) AddChildFace(ct, {VertexPointOf(T, vp, c), eca, ebc}, {h[2], 0, h[1]}, cf);
+    AddChildFace(ct, {eab, ebc, eca}, {0, 0, 0}, cf);
   }
-  // compact
-  std::vector<int> remap(out.P.size(), -1);
+}
+
+// The child's net: the vertices of `fine` its faces use, renumbered in order of first use.
+LNet CompactNet(const LNet& fine, const ChildFaces& cf) {
+  std::vector<int> remap(fine.P.size(), -1);
   LNet res;
-  for (const Tri& t : F)
+  for (const Tri& t : cf.F)
     for (int k = 0; k < 3; ++k)
       if (remap[t[k]] < 0) {
         remap[t[k]] = int(res.P.size());
-        res.P.push_back(out.P[t[k]]);
-        res.type.push_back(out.type[t[k]]);
+        res.P.push_back(fine.P[t[k]]);
+        res.type.push_back(fine.type[t[k]]);
       }
-  res.F.resize(F.size());
-  for (size_t f = 0; f < F.size(); ++f)
-    for (int k = 0; k < 3; ++k) res.F[f][k] = remap[F[f][k]];
-  res.H = H;
-  res.target = target;
+  res.F.resize(cf.F.size());
+  for (size_t f = 0; f < cf.F.size(); ++f)
+    for (int k = 0; k < 3; ++k) res.F[f][k] = remap[cf.F[f][k]];
+  res.H = cf.H;
+  res.target = cf.target;
   return res;
+}
+
+/// One step of local Loop subdivision: the net of sub-triangle `child` (0..2 corner c_child, 3 middle).
+LNet Subdivide(const LNet& n, int child) {
+  const Tri T = n.F[n.target];
+  LNet out;  // vertex points of the corners (ids 0..2), then edge points of edges touching a corner
+  int vp[3];
+  for (int k = 0; k < 3; ++k) {
+    vp[k] = int(out.P.size());
+    out.P.push_back(VertexPoint(n, T[k]));
+    out.type.push_back(n.type[T[k]]);
+  }
+  EdgePoints ep;
+  CollectEdges(n, T, ep, out);
+  PlaceEdgePoints(n, ep, out);
+  const Tri ct = ChildTriangle(T, vp, ep, child);
+  ChildFaces cf;
+  BuildChildFaces(n, T, vp, ep, ct, cf);
+  return CompactNet(out, cf);
 }
 
 /// Child selection and affine parameter map (v', w') = A (v, w) + b (see the file comment).
