@@ -354,18 +354,18 @@ struct Refiner {
   }
 };
 
-}  // namespace
+// Per-face centroid data of the refiner, kept between passes and recomputed for changed faces.
+struct CentroidData {
+  std::vector<double> metric;   ///< refinement metric
+  std::vector<int> cf;          ///< control face of the centroid ...
+  std::vector<double> cvv, cww; ///< ... and its (v, w) there
+  std::vector<Vec3> cp;         ///< centroid on the limit surface
+};
 
-LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams& p, vcg::CallBackPos* cb) {
-  auto t0 = std::chrono::steady_clock::now();
-  LoopRefineResult res;
-  if (!s.Ok()) { res.error = s.Error(); return res; }
-  if (p.targetFaces < 1) { res.error = "targetFaces must be positive"; return res; }
-  Progress prog(cb);
-  Refiner R(s);
+// Start mesh: the control net's topology with vertices at their limit positions (isolated dropped).
+void StartFromControlNet(const LoopSurface& s, Refiner& R) {
   const TriData& net = s.Net();
   const int nV = s.NumVertices(), nF = s.NumFaces();
-  // start: control topology, vertices at their limit positions (isolated vertices dropped)
   std::vector<int> remap(nV, -1);
   const double cv[3][2] = {{0, 0}, {1, 0}, {0, 1}};
   for (int i = 0; i < nV; ++i) {
@@ -383,117 +383,161 @@ LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams&
       R.hard[f][k] = s.EdgeHard(f, k) ? 1 : 0;
       R.edges.insert(Refiner::Key(R.F[f][k], remap[net.F[f][(k + 1) % 3]]));
     }
-  const double diag = s.NetDiagonal();
+}
+
+// Centroid and metric of face f (area / diag^2, or (max|k| + flatWeight / diag) * area / diag).
+void UpdateCentroid(const LoopSurface& s, const LoopRefineParams& p, double diag, const Refiner& R, int f,
+                    CentroidData& cd) {
   const bool adaptive = p.mode == LoopRefineParams::Mode::Adaptive;
-  // per-face centroid data, kept between passes and recomputed only for changed faces
-  std::vector<double> metric;
-  std::vector<int> cf;
-  std::vector<double> cvv, cww;
-  std::vector<Vec3> cp;
+  const Tri& t = R.F[f];
+  double area = 0.5 * (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).norm();
+  int face;
+  double v, w;
+  R.Average(t.data(), 3, face, v, w);
+  LoopEval e;
+  s.Evaluate(face, v, w, e, adaptive ? 2 : 0);
+  cd.cf[f] = face;
+  cd.cvv[f] = v;
+  cd.cww[f] = w;
+  cd.cp[f] = e.P;
+  if (adaptive) {
+    if (e.N.squaredNorm() == 0) e.N = (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).normalized();
+    LoopCurvature k = CurvatureFromDerivatives(e);
+    cd.metric[f] = (k.MaxAbs() + p.flatWeight / diag) * area / diag;
+  } else {
+    cd.metric[f] = area / (diag * diag);
+  }
+}
+
+// Recomputes the centroid data of the dirty faces (OpenMP) after growing it to the face count.
+void UpdateCentroids(const LoopSurface& s, const LoopRefineParams& p, double diag, Refiner& R, CentroidData& cd,
+                     std::vector<int>& todo) {
+  const int m = int(R.F.size());
+  cd.metric.resize(m, 0);
+  cd.cf.resize(m, -1);
+  cd.cvv.resize(m, 0);
+  cd.cww.resize(m, 0);
+  cd.cp.resize(m, Vec3::Zero());
+  R.dirty.resize(m, 1);
+  todo.clear();
+  for (int f = 0; f < m; ++f)
+    if (R.dirty[f]) { todo.push_back(f); R.dirty[f] = 0; }
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int i = 0; i < int(todo.size()); ++i) UpdateCentroid(s, p, diag, R, todo[i], cd);
+}
+
+// The faces to split this pass: the K largest metrics first in `order` (above the tolerance); returns K.
+int SelectFaces(const LoopRefineParams& p, const std::vector<double>& metric, int m, std::vector<int>& order) {
+  int K = std::max(1, std::min(int(std::ceil(p.batchFraction * m)), (p.targetFaces - m + 1) / 2));
+  order.resize(m);
+  for (int i = 0; i < m; ++i) order[i] = i;
+  if (K < m) std::nth_element(order.begin(), order.begin() + K, order.end(), [&](int a, int b) { return metric[a] > metric[b]; });
+  if (p.tolerance > 0) {  // never split faces already below the tolerance
+    int k2 = 0;
+    for (int i = 0; i < K; ++i)
+      if (metric[order[i]] > p.tolerance) order[k2++] = order[i];
+    K = k2;
+  }
+  return K;
+}
+
+// Inserts the centroids of the first K faces of `order`; records their hard outer edges.
+void InsertCentroids(Refiner& R, const std::vector<int>& order, int K, const CentroidData& cd,
+                     std::vector<std::array<int, 3>>& hardSplit, LoopRefineResult& res) {
+  for (int i = 0; i < K; ++i) {
+    int f = order[i];
+    const Tri t = R.F[f];
+    const int f2 = int(R.F.size());
+    int pidx = R.AddVertex(cd.cp[f], cd.cf[f], cd.cvv[f], cd.cww[f]);
+    R.SplitFace(f, pidx);
+    // SplitFace keeps the outer edge k of f at index 0 of face {f, f2, f2 + 1}[k]
+    const int fk[3] = {f, f2, f2 + 1};
+    for (int k = 0; k < 3; ++k)
+      if (R.hard[fk[k]][0]) hardSplit.push_back({t[k], t[(k + 1) % 3], fk[k]});
+    R.dirty.resize(R.F.size(), 1);
+    R.Touch(f); R.Touch(f2); R.Touch(f2 + 1);
+    ++res.insertions;
+  }
+}
+
+// Splits the hard edges of refined faces at their parameter midpoint (a point of the crease curve).
+void SplitHardEdges(const LoopSurface& s, Refiner& R, const std::vector<std::array<int, 3>>& hardSplit,
+                    LoopRefineResult& res) {
+  for (auto& e : hardSplit) {
+    if (!R.edges.count(Refiner::Key(e[0], e[1]))) continue;  // already split (from the other side)
+    int face = e[2];
+    if (!(R.F[face][0] == e[0] && R.F[face][1] == e[1])) continue;  // cannot happen (see above)
+    int vs[2] = {e[0], e[1]};
+    int pfce;
+    double v, w;
+    R.Average(vs, 2, pfce, v, w);
+    int mid = R.AddVertex(s.Position(pfce, v, w), pfce, v, w);
+    int g = R.opp[face][0];
+    const int nf = int(R.F.size());
+    R.SplitEdge(face, 0, mid);
+    R.dirty.resize(R.F.size(), 1);
+    R.Touch(face); R.Touch(g);
+    for (int x = nf; x < int(R.F.size()); ++x) R.Touch(x);
+    ++res.edgeSplits;
+  }
+}
+
+// Sorts a face list and removes duplicates.
+void SortUnique(std::vector<int>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// Max-min angle swap rounds: the faces touched by this pass, then the swapped ones and their neighbours.
+void SwapRounds(const LoopRefineParams& p, Refiner& R, std::vector<int>& cand, std::vector<int>& changed,
+                LoopRefineResult& res) {
+  cand.swap(R.touched);
+  SortUnique(cand);
+  for (int sp = 0; sp < p.swapPasses && !cand.empty(); ++sp) {
+    changed.clear();
+    int n = R.SwapFaces(cand, changed);
+    res.swaps += n;
+    if (n == 0) break;
+    // next round: the swapped faces and their neighbours
+    cand.clear();
+    for (int f : changed) {
+      cand.push_back(f);
+      for (int k = 0; k < 3; ++k)
+        if (R.opp[f][k] >= 0) cand.push_back(R.opp[f][k]);
+    }
+    SortUnique(cand);
+  }
+}
+
+}  // namespace
+
+LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams& p, vcg::CallBackPos* cb) {
+  auto t0 = std::chrono::steady_clock::now();
+  LoopRefineResult res;
+  if (!s.Ok()) { res.error = s.Error(); return res; }
+  if (p.targetFaces < 1) { res.error = "targetFaces must be positive"; return res; }
+  Progress prog(cb);
+  Refiner R(s);
+  StartFromControlNet(s, R);
+  const double diag = s.NetDiagonal();
+  CentroidData cd;
   R.dirty.assign(R.F.size(), 1);
   R.edges.reserve(size_t(p.targetFaces) * 2);
   R.P.reserve(size_t(p.targetFaces) / 2 + R.P.size() + 16);
   std::vector<int> todo, order, cand, changed;
   while (int(R.F.size()) < p.targetFaces) {
     const int m = int(R.F.size());
-    metric.resize(m, 0);
-    cf.resize(m, -1);
-    cvv.resize(m, 0);
-    cww.resize(m, 0);
-    cp.resize(m, Vec3::Zero());
-    R.dirty.resize(m, 1);
-    todo.clear();
-    for (int f = 0; f < m; ++f)
-      if (R.dirty[f]) { todo.push_back(f); R.dirty[f] = 0; }
-#pragma omp parallel for schedule(dynamic, 256)
-    for (int i = 0; i < int(todo.size()); ++i) {
-      const int f = todo[i];
-      const Tri& t = R.F[f];
-      double area = 0.5 * (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).norm();
-      int face;
-      double v, w;
-      R.Average(t.data(), 3, face, v, w);
-      LoopEval e;
-      s.Evaluate(face, v, w, e, adaptive ? 2 : 0);
-      cf[f] = face;
-      cvv[f] = v;
-      cww[f] = w;
-      cp[f] = e.P;
-      if (adaptive) {
-        if (e.N.squaredNorm() == 0) e.N = (R.P[t[1]] - R.P[t[0]]).cross(R.P[t[2]] - R.P[t[0]]).normalized();
-        LoopCurvature k = CurvatureFromDerivatives(e);
-        metric[f] = (k.MaxAbs() + p.flatWeight / diag) * area / diag;
-      } else {
-        metric[f] = area / (diag * diag);
-      }
-    }
+    UpdateCentroids(s, p, diag, R, cd, todo);
     double mx = 0;
-    for (double x : metric) mx = std::max(mx, x);
+    for (double x : cd.metric) mx = std::max(mx, x);
     res.maxMetric = mx;
     if (p.tolerance > 0 && mx <= p.tolerance) break;
-    int K = std::max(1, std::min(int(std::ceil(p.batchFraction * m)), (p.targetFaces - m + 1) / 2));
-    order.resize(m);
-    for (int i = 0; i < m; ++i) order[i] = i;
-    if (K < m) std::nth_element(order.begin(), order.begin() + K, order.end(), [&](int a, int b) { return metric[a] > metric[b]; });
-    if (p.tolerance > 0) {  // never split faces already below the tolerance
-      int k2 = 0;
-      for (int i = 0; i < K; ++i)
-        if (metric[order[i]] > p.tolerance) order[k2++] = order[i];
-      K = k2;
-    }
+    const int K = SelectFaces(p, cd.metric, m, order);
     R.touched.clear();
     std::vector<std::array<int, 3>> hardSplit;  // (a, b, face whose edge 0 is a->b)
-    for (int i = 0; i < K; ++i) {
-      int f = order[i];
-      const Tri t = R.F[f];
-      const int f2 = int(R.F.size());
-      int pidx = R.AddVertex(cp[f], cf[f], cvv[f], cww[f]);
-      R.SplitFace(f, pidx);
-      // SplitFace keeps the outer edge k of f at index 0 of face {f, f2, f2 + 1}[k]
-      const int fk[3] = {f, f2, f2 + 1};
-      for (int k = 0; k < 3; ++k)
-        if (R.hard[fk[k]][0]) hardSplit.push_back({t[k], t[(k + 1) % 3], fk[k]});
-      R.dirty.resize(R.F.size(), 1);
-      R.Touch(f); R.Touch(f2); R.Touch(f2 + 1);
-      ++res.insertions;
-    }
-    // hard edges of refined faces: split at the parameter midpoint (a point of the crease curve)
-    for (auto& e : hardSplit) {
-      if (!R.edges.count(Refiner::Key(e[0], e[1]))) continue;  // already split (from the other side)
-      int face = e[2];
-      if (!(R.F[face][0] == e[0] && R.F[face][1] == e[1])) continue;  // cannot happen (see above)
-      int vs[2] = {e[0], e[1]};
-      int pfce;
-      double v, w;
-      R.Average(vs, 2, pfce, v, w);
-      int mid = R.AddVertex(s.Position(pfce, v, w), pfce, v, w);
-      int g = R.opp[face][0];
-      const int nf = int(R.F.size());
-      R.SplitEdge(face, 0, mid);
-      R.dirty.resize(R.F.size(), 1);
-      R.Touch(face); R.Touch(g);
-      for (int x = nf; x < int(R.F.size()); ++x) R.Touch(x);
-      ++res.edgeSplits;
-    }
-    // max-min angle swaps, incremental: the faces changed by this pass, then those changed by swaps
-    cand.swap(R.touched);
-    std::sort(cand.begin(), cand.end());
-    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-    for (int sp = 0; sp < p.swapPasses && !cand.empty(); ++sp) {
-      changed.clear();
-      int n = R.SwapFaces(cand, changed);
-      res.swaps += n;
-      if (n == 0) break;
-      // next round: the swapped faces and their neighbours
-      cand.clear();
-      for (int f : changed) {
-        cand.push_back(f);
-        for (int k = 0; k < 3; ++k)
-          if (R.opp[f][k] >= 0) cand.push_back(R.opp[f][k]);
-      }
-      std::sort(cand.begin(), cand.end());
-      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-    }
+    InsertCentroids(R, order, K, cd, hardSplit, res);
+    SplitHardEdges(s, R, hardSplit, res);
+    SwapRounds(p, R, cand, changed, res);
     ++res.passes;
     prog(100.0 * double(R.F.size()) / p.targetFaces, "Loop surrogate: refining");
   }
