@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <omp.h>
 
@@ -418,39 +420,63 @@ TEST(QuadSimplify, ValenceTermKeepsATorusCageNearlyRegular) {
 }
 
 
-// A start too coarse for its input is refined (docs/quad.md "A start too coarse"). rotor.off
-// (1 200 long CAD triangles, 599 pairs) with the filter's guards at tau = 1 % (coverage 50 per
-// mille, start 10): from its own triangles the simplification keeps most of the pairs and their
-// limit stays far off the part (the pipeline: 515 patches, 45 per mille interpolating, 40 after
-// the fit); from the start refined at edge midpoints the cage, fitted, is several times closer.
-// Stand-in Fitmaps (S = 1, M = 5 % of the diagonal): the trigger depends only on the cage.
-TEST(QuadSimplify, StartTooCoarseForTheInputIsRefined) {
-  const auto t = testsupport::LoadSample("rotor.off");
-  vcgext::EmbreeScene scene(t);
+namespace {
+
+// rotor.off (1 200 long CAD triangles, 599 pairs) with stand-in Fitmaps (S = 1, M = 5 % of the
+// diagonal): the start refinement's trigger depends only on the cage.
+struct Rotor {
+  const vcgext::TriData t = testsupport::LoadSample("rotor.off");
+  const vcgext::EmbreeScene scene{t};
   const double diag = vcgext::BBoxDiagonal(t.V);
-  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.05 * diag);
-  vcgext::QuadSimplifyParams p;
-  p.coverageRmsPermille = 50;
-  p.startRmsPermille = 10;
+  const std::vector<double> S = std::vector<double>(t.V.size(), 1.0), M = std::vector<double>(t.V.size(), 0.05 * diag);
+  vcgext::QuadSimplifyResult Run(const vcgext::QuadSimplifyParams& p) const {
+    return vcgext::SimplifyToQuads(t, scene, S, M, p);
+  }
+  // The fit's RMS (FitCatmullClark, default parameters: the pipeline's next filter), absolute.
+  double Fitted(const vcgext::QuadData& q) const {
+    const vcgext::FitResult f = vcgext::FitCatmullClark(q, t, scene);
+    EXPECT_EQ(f.error, "");
+    return f.error.empty() ? f.dataRmsPerIteration.back() : 0.0;
+  }
+};
+
+// p (startRmsPermille > 0) run without the start refinement (r0) and with it (r1): r1 was refined
+// from r0's cage and is a valid quad mesh. Returns r0's and r1's fitted RMS.
+std::pair<double, double> ExpectRefinedFrom(const Rotor& rotor, const vcgext::QuadSimplifyParams& p, const char* what) {
   auto off = p;
   off.startRmsPermille = 0;
-  const auto r0 = vcgext::SimplifyToQuads(t, scene, S, M, off);
-  const auto r1 = vcgext::SimplifyToQuads(t, scene, S, M, p);
-  ASSERT_EQ(r0.error, "");
-  ASSERT_EQ(r1.error, "");
-  std::printf("rotor: own start %d patches (interpolating RMS %.3g per mille); refined %d time(s): %d patches\n", r0.patches,
-              1000 * r0.layoutRms / diag, r1.startRefinements, r1.patches);
+  const auto r0 = rotor.Run(off), r1 = rotor.Run(p);
+  EXPECT_EQ(r0.error, "");
+  EXPECT_EQ(r1.error, "");
+  std::printf("rotor%s: own start %d patches; refined %d time(s): %d patches (budget rung %d)\n", what, r0.patches,
+              r1.startRefinements, r1.patches, r1.budgetRelaxations);
   EXPECT_EQ(r0.startRefinements, 0);
-  EXPECT_GT(4 * r0.patches, int(t.F.size())) << "the trigger: more than half the start's quads kept";
-  ASSERT_GE(r1.startRefinements, 1) << r1.message;
+  EXPECT_GT(4 * r0.patches, int(rotor.t.F.size())) << "the trigger: more than half the start's quads kept";
+  if (p.targetPatches > 0) {
+    EXPECT_GT(r0.patches, p.targetPatches + p.targetPatches / 50) << "the budget missed";
+  }
+  EXPECT_GE(r1.startRefinements, 1) << r1.message;
   EXPECT_EQ(r1.startRefinedFrom, r0.patches);
   vcgext::quad::QuadMesh q(r1.quads.V, r1.quads.F);
   EXPECT_EQ(q.Check(), "");
-  const vcgext::FitResult f0 = vcgext::FitCatmullClark(r0.quads, t, scene), f1 = vcgext::FitCatmullClark(r1.quads, t, scene);
-  ASSERT_EQ(f0.error, "");
-  ASSERT_EQ(f1.error, "");
-  const double e0 = f0.dataRmsPerIteration.back(), e1 = f1.dataRmsPerIteration.back();
-  std::printf("fitted RMS: own start %.3g, refined %.3g per mille\n", 1000 * e0 / diag, 1000 * e1 / diag);
+  const double e0 = rotor.Fitted(r0.quads), e1 = rotor.Fitted(r1.quads);
+  std::printf("fitted RMS: own start %.3g, refined %.3g per mille\n", 1000 * e0 / rotor.diag, 1000 * e1 / rotor.diag);
+  return {e0, e1};
+}
+
+}  // namespace
+
+// A start too coarse for its input is refined (docs/quad.md "A start too coarse"). rotor.off
+// with the filter's guards at tau = 1 % (coverage 50 per mille, start 10): from its own triangles
+// the simplification keeps most of the pairs and their limit stays far off the part (the
+// pipeline: 515 patches, 45 per mille interpolating, 40 after the fit); from the start refined at
+// edge midpoints the cage, fitted, is several times closer.
+TEST(QuadSimplify, StartTooCoarseForTheInputIsRefined) {
+  const Rotor rotor;
+  vcgext::QuadSimplifyParams p;
+  p.coverageRmsPermille = 50;
+  p.startRmsPermille = 10;
+  const auto [e0, e1] = ExpectRefinedFrom(rotor, p, "");
   EXPECT_LT(e1, 0.5 * e0);
   // a start whose cage is close enough is left alone (the sphere of the other tests)
   const auto s = testsupport::Icosphere(3);
@@ -461,42 +487,22 @@ TEST(QuadSimplify, StartTooCoarseForTheInputIsRefined) {
 
 // The same under a budget the start cannot reach (docs/quad.md "A start too coarse"): rotor.off
 // for 400 patches kept 515 pairs 38 per mille (RMS) off the part after the fit. When the budget is
-// not reached and the cage stays that far off, the refined start is simplified under the same
-// budget (its ladder included) and its cage kept when, fitted, it is closer — here even with more
-// patches, since the coarse start's cage misses the part. A budget that is reached keeps its start.
+// not reached and the cage, fitted, stays that far off, the refined start is simplified under the
+// same budget (its ladder included) and its cage kept when, fitted, it is closer — here even with
+// more patches, since the coarse start's cage misses the part. A budget that is reached keeps its
+// start.
 TEST(QuadSimplify, BudgetNotReachedFromAStartTooCoarseIsRefined) {
-  const auto t = testsupport::LoadSample("rotor.off");
-  vcgext::EmbreeScene scene(t);
-  const double diag = vcgext::BBoxDiagonal(t.V);
-  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.05 * diag);
+  const Rotor rotor;
   vcgext::QuadSimplifyParams p;
   p.targetPatches = 400;
   p.startRmsPermille = 10;
-  auto off = p;
-  off.startRmsPermille = 0;
-  const auto r0 = vcgext::SimplifyToQuads(t, scene, S, M, off);
-  const auto r1 = vcgext::SimplifyToQuads(t, scene, S, M, p);
-  ASSERT_EQ(r0.error, "");
-  ASSERT_EQ(r1.error, "");
-  std::printf("rotor @ 400: own start %d patches; refined %d time(s): %d patches (rung %d)\n", r0.patches,
-              r1.startRefinements, r1.patches, r1.budgetRelaxations);
-  EXPECT_GT(r0.patches, 408) << "the budget is not reached from the rotor's own triangles";
-  EXPECT_EQ(r0.startRefinements, 0);
-  ASSERT_GE(r1.startRefinements, 1) << r1.message;
-  EXPECT_EQ(r1.startRefinedFrom, r0.patches);
-  vcgext::quad::QuadMesh q(r1.quads.V, r1.quads.F);
-  EXPECT_EQ(q.Check(), "");
-  const vcgext::FitResult f0 = vcgext::FitCatmullClark(r0.quads, t, scene), f1 = vcgext::FitCatmullClark(r1.quads, t, scene);
-  ASSERT_EQ(f0.error, "");
-  ASSERT_EQ(f1.error, "");
-  const double e0 = f0.dataRmsPerIteration.back(), e1 = f1.dataRmsPerIteration.back();
-  std::printf("fitted RMS: own start %.3g, refined %.3g per mille\n", 1000 * e0 / diag, 1000 * e1 / diag);
-  EXPECT_GT(e0, 0.01 * diag) << "the coarse start's cage is far off: the reason to take more patches";
+  const auto [e0, e1] = ExpectRefinedFrom(rotor, p, " @ 400");
+  EXPECT_GT(e0, 0.01 * rotor.diag) << "the coarse start's cage is far off: the reason to take more patches";
   EXPECT_LT(e1, 0.5 * e0);
   // a budget the rotor's own start reaches keeps it
   auto easy = p;
   easy.targetPatches = 560;
-  const auto re = vcgext::SimplifyToQuads(t, scene, S, M, easy);
+  const auto re = rotor.Run(easy);
   EXPECT_LE(re.patches, 560 + 560 / 50);
   EXPECT_EQ(re.startRefinements, 0);
 }
