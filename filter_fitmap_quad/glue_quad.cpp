@@ -189,7 +189,7 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
     ctx.log("Fitmap Quad Simplification: the cage of the start mesh (" + std::to_string(r.startRefinedFrom) +
             " patches) stayed off the input (its start mesh too coarse for it): simplified again from the start refined " +
             std::to_string(r.startRefinements) + " time(s) at edge midpoints: " + std::to_string(r.patches) + " patches");
-  if (p.targetPatches > 0 && r.patches > p.targetPatches + p.targetPatches / 50)
+  if (p.targetPatches > 0 && !vcgext::BudgetReached(r.patches, p.targetPatches))
     ctx.log("Warning: Fitmap Quad Simplification: the budget of " + std::to_string(p.targetPatches) +
             " patches was not reached: " + std::to_string(r.patches) +
             " patches: no collapse left that the checks allow (M-fitmap, thin-part guard, topology, flips)");

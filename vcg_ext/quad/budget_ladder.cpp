@@ -57,7 +57,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads) {
   const int target = params.targetPatches;
-  const auto reached = [target](const QuadSimplifyResult& x) { return x.patches <= target + target / 50; };
+  const auto reached = [target](const QuadSimplifyResult& x) { return BudgetReached(x.patches, target); };
   QuadSimplifyResult r = SimplifyOnce(input, start, scene, S, M, LayoutParams(params, target), prog, initialQuads);
   if (!r.error.empty() || reached(r) || !(params.deviationFactor > 0)) return r;
   QuadSimplifyResult best;  // the retry kept so far (patches 0: none)

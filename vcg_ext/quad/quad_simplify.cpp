@@ -204,7 +204,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
   const int target = params.targetPatches;
   const bool budget = target > 0;
   if (!r.error.empty() || (initialQuads && !initialQuads->empty()) || params.layout != QuadSimplifyParams::Layout::Equalized ||
-      (budget && r.patches <= target + target / 50))
+      (budget && BudgetReached(r.patches, target)))
     return r;
   constexpr long kMaxRefinedStartFaces = 65536;
   DecimateResult finer;
@@ -224,7 +224,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
           layoutRms(x) > far))
       return false;
     if (!budget) return true;
-    if (x.patches <= target + target / 50) return false;
+    if (BudgetReached(x.patches, target)) return false;
     if (rFitted < 0) rFitted = FittedRms(input, scene, x.quads);
     return rFitted > far;
   };

@@ -234,6 +234,11 @@ struct QuadSimplifyResult {
   double secondsTriToQuad = 0, secondsInitialFit = 0, secondsSimplify = 0, secondsTotal = 0;
 };
 
+/// Whether a cage of `patches` meets a budget of `target` patches (QuadSimplifyParams::
+/// targetPatches > 0): at most 2 % above it (one step removes a face and a few doublets). The
+/// budget ladder, the start refinement under a budget and the filter's warning all judge by it.
+inline bool BudgetReached(int patches, int target) { return patches <= target + target / 50; }
+
 /// Simplifies triangle mesh `input` into a pure-quad Catmull-Clark control mesh (§3.2–3.4).
 /// \param input  manifold, consistently oriented triangle mesh (double arrays)
 /// \param scene  Embree scene built on `input` (projection phi)
@@ -246,10 +251,11 @@ struct QuadSimplifyResult {
 ///               projection, the M-fitmap test and the S cost still refer to `input` (M).
 ///               nullptr = `input` itself. Not together with initialQuads.
 /// Beyond the paper (docs/quad.md): with a budget (targetPatches) the layout pass alone and, when
-/// the guards stop it above the budget, the budget ladder (a looser guard, a start decimated to
-/// 4 x the budget, each retry judged by its fitted limit); without one, the paper's count laid out
-/// by the S-fitmap (Layout::Equalized), the coverage guard, and a start too coarse for the input
-/// refined at edge midpoints (startRmsPermille).
+/// the guards stop it above the budget, the budget ladder (a looser guard, starts decimated to
+/// 4 and 2.5 x the budget, each retry judged by its fitted limit); without one, the paper's count
+/// laid out by the S-fitmap (Layout::Equalized) and the coverage guard; with or without one, a
+/// start too coarse for the input refined at edge midpoints (startRmsPermille; under a budget only
+/// when it was missed and the cage, fitted, stays that far off).
 /// Errors: empty input, size mismatches, non-finite fitmaps, non-manifold input (reports the
 /// number of non-manifold edges and vertices). A mesh too small to simplify returns its pure-quad
 /// mesh with `message` set. Cost: roughly O(F log F) collapses, each O(1) local work
