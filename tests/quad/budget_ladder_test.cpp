@@ -53,6 +53,12 @@ TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardGoesDownTheLadder) {
   EXPECT_EQ(r.budgetStartFaces, 30);
   EXPECT_EQ(r.patches, 12) << "the budget is reached";
   EXPECT_NE(r.message.find("tolerance doubled reached"), std::string::npos) << "the first rung ran: " << r.message;
+  // each rung runs once: 0fbfba7 ran the first rung twice (the same pass again, its note repeated)
+  size_t firstRungNotes = 0;
+  for (size_t at = r.message.find("guard's tolerance doubled reached 6"); at != std::string::npos;
+       at = r.message.find("guard's tolerance doubled reached 6", at + 1))
+    ++firstRungNotes;
+  EXPECT_EQ(firstRungNotes, 1u) << r.message;
   EXPECT_NE(r.message.find("was not kept: fitted"), std::string::npos) << r.message;
   // the first pass is the run whose budget is where it stopped (no ladder); fitted, the kept cage
   // is at most twice as far from the cigar as that one, scaled by the patch ratio (the refused

@@ -103,7 +103,6 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
     }
     return c;
   };
-  attempt(start, 2 * params.deviationFactor, 1, "with the thin-part guard's tolerance doubled");
   const DecimateResult coarse = coarser(4L * target);
   if (!coarse.mesh.F.empty()) {
     attempt(coarse.mesh, params.deviationFactor, 2, "from a start of 4 x the budget in triangles");
