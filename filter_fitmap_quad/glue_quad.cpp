@@ -46,6 +46,13 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
                          "valence defect, so collapses that make corners regular come first. 0 = the "
                          "S cost alone. 1 about halves the irregular vertices at a budget, while the limit "
                          "error moves by -40 % to +80 % depending on the mesh (docs/quad.md, Regularity)."));
+  par.addParam(RichInt(param::kLayoutTrials, d.layoutTrials, "Layout trials (with a target, 1-5)",
+                       "Beyond the paper, with a target patch count: lay the patches out this many times "
+                       "with different regularity weights (yours, then 0, 0.25, 1, 0.05) and keep the cage "
+                       "whose fitted limit surface is closest to the input (RMS). The error of one layout "
+                       "moves by +-25 % with tiny changes of the collapse order, so more trials give a "
+                       "lower error for about as many times the simplification's time (docs/quad.md, "
+                       "Layout trials). 1 = one layout."));
   par.addParam(RichFloat(param::kGuard, float(d.deviationFactor), "Thin-part guard (x F_M, 0 = off)",
                          "Beyond the paper: a collapse is undone when the new limit surface (patch "
                          "centres and edge midpoints) ends farther from the input than this fraction "
@@ -86,6 +93,7 @@ bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, in
                                                       : vcgext::QuadSimplifyParams::Layout::PaperHalting;
   p.edgeSwaps = ctx.par.getBool(param::kEdgeSwaps);
   p.valenceWeight = ctx.par.getFloat(param::kRegularity);
+  p.layoutTrials = ctx.par.getInt(param::kLayoutTrials);
   p.validateEveryOperation = ctx.par.getBool(param::kValidate);
   p.deviationFactor = ctx.par.getFloat(param::kGuard);
   // Coverage guard at 5 tau (the count let the limit stray five times the tolerance), at most
@@ -101,6 +109,7 @@ bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, in
   if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
   if (!(p.valenceWeight >= 0 && p.valenceWeight <= 100)) return ctx.Fail("the regularity weight must be in [0, 100]");
+  if (p.layoutTrials < 1 || p.layoutTrials > 5) return ctx.Fail("the layout trials must be in [1, 5]");
   if (!(tau >= 0 && tau <= 100)) return ctx.Fail("tau must be in [0, 100] percent");
   if (p.targetPatches < 0) return ctx.Fail("target patches must be >= 0");
   if (!p.useMFitmap && p.targetPatches == 0)
@@ -184,6 +193,14 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
     if (r.budgetRelaxations != 2) b << " (doubled)";
     b << ": " << r.patches << " patches";
     ctx.log(b.str());
+  }
+  if (r.layoutTrialsRun > 1) {
+    std::ostringstream t;
+    t << "Fitmap Quad Simplification: " << r.layoutTrialsRun << " layout trials (valence weights";
+    for (double w : vcgext::TrialValenceWeights(p.valenceWeight, r.layoutTrialsRun)) t << " " << w;
+    t << "): kept the one with weight " << r.trialValenceWeight << " (the closest fitted limit); the others took "
+      << r.secondsLayoutTrials << " s";
+    ctx.log(t.str());
   }
   if (r.startRefinements > 0)
     ctx.log("Fitmap Quad Simplification: the cage of the start mesh (" + std::to_string(r.startRefinedFrom) +
@@ -291,6 +308,7 @@ bool ApplyQuad(GlueContext& ctx) {
   times.push_back({"tri_to_quad", r.secondsTriToQuad});
   times.push_back({"initial_fit", r.secondsInitialFit});
   times.push_back({"simplification", r.secondsSimplify});
+  if (r.secondsLayoutTrials > 0) times.push_back({"layout_trials", r.secondsLayoutTrials});
   if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
   if (r.secondsStartRetries > 0) times.push_back({"start_refinement", r.secondsStartRetries});
   if (r.secondsRescue > 0) times.push_back({"rescue_by_budget", r.secondsRescue});

@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # The main job, for a newcomer on a fresh Debian 12 machine (as root):
-#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--regularity W] [--normal-map] [--blender] [INPUT] [OUTDIR]
+#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--regularity W] [--trials K] [--normal-map] [--blender] [INPUT] [OUTDIR]
 # Sets up whatever is missing (apt packages, MeshLab sources, build, plugin install, sample
 # scans), then runs meshlab_scripts/pipeline.mlx through meshlabserver on INPUT (default: the
 # bunny scan bunny00.off) into OUTDIR (default: out/). tau defaults to 1 (percent). --patches N
 # stops the simplification at N patches (a budget; default: when no feasible collapse is left).
 # --regularity W weighs collapses by the valence defect they remove (fewer irregular vertices;
 # default 0 = off; docs/quad.md "Regularity").
+# --trials K (with --patches, 1-5) lays the patches out K times with different regularity
+# weights (yours, then 0, 0.25, 1, 0.05) and keeps the cage that fits closest (default 1;
+# docs/quad.md "Layout trials").
 # --blender bakes the displacement for the surface Blender rebuilds (rendererGrid: its uniform
 # subdivision and mesh normals; then scripts/blender_fitmap.py shows the reported error,
 # docs/blender.md).
@@ -26,6 +29,7 @@ REPO=$(cd "$(dirname "$0")/.." && pwd)
 TAU=1
 PATCHES=0
 REGULARITY=0
+TRIALS=1
 NORMAL=false
 BLENDER=false
 args=()
@@ -40,9 +44,12 @@ while [ $# -gt 0 ]; do
     --regularity) [ $# -ge 2 ] || { echo "run_pipeline: --regularity takes a number >= 0" >&2; exit 2; }
                   REGULARITY="$2"; shift 2 ;;
     --regularity=*) REGULARITY="${1#--regularity=}"; shift ;;
+    --trials) [ $# -ge 2 ] || { echo "run_pipeline: --trials takes a whole number from 1 to 5" >&2; exit 2; }
+              TRIALS="$2"; shift 2 ;;
+    --trials=*) TRIALS="${1#--trials=}"; shift ;;
     --normal-map) NORMAL=true; shift ;;
     --blender) BLENDER=true; shift ;;
-    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     -*) echo "run_pipeline: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) args+=("$1"); shift ;;
   esac
@@ -51,6 +58,7 @@ done
 [[ "$TAU" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --tau takes a number (percent)" >&2; exit 2; }
 [[ "$PATCHES" =~ ^[0-9]+$ ]] || { echo "run_pipeline: --patches takes a whole number" >&2; exit 2; }
 [[ "$REGULARITY" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --regularity takes a number >= 0" >&2; exit 2; }
+[[ "$TRIALS" =~ ^[1-5]$ ]] || { echo "run_pipeline: --trials takes a whole number from 1 to 5" >&2; exit 2; }
 
 # FITMAP_SKIP_SETUP=1: use the existing build/install (the end-to-end tests do).
 [ "${FITMAP_SKIP_SETUP:-0}" = 1 ] || bash "$REPO/scripts/setup.sh"
@@ -69,6 +77,7 @@ sed -E -e "s|value=\"[^\"]*\" name=\"tau\"|value=\"$TAU\" name=\"tau\"|" \
        -e "s|value=\"[^\"]*\" name=\"normalMap\"|value=\"$NORMAL\" name=\"normalMap\"|" \
        -e "s|value=\"[^\"]*\" name=\"targetPatches\"|value=\"$PATCHES\" name=\"targetPatches\"|" \
        -e "s|value=\"[^\"]*\" name=\"regularity\"|value=\"$REGULARITY\" name=\"regularity\"|" \
+       -e "s|value=\"[^\"]*\" name=\"layoutTrials\"|value=\"$TRIALS\" name=\"layoutTrials\"|" \
        -e "s|value=\"[^\"]*\" name=\"outputDir\"|value=\"$OUTDIR\" name=\"outputDir\"|" \
        -e "s|value=\"[^\"]*\" name=\"rendererGrid\"|value=\"$BLENDER\" name=\"rendererGrid\"|" \
        "$REPO/meshlab_scripts/pipeline.mlx" > "$mlx"

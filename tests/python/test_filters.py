@@ -156,6 +156,7 @@ def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
     (lambda ms: ms.generate_fitmap_quad_simplification(usemfitmap=False),
      "without the M-fitmap test a target patch count is needed (it would collapse everything)"),
     (lambda ms: ms.generate_fitmap_quad_simplification(regularity=-1), "the regularity weight must be in [0, 100]"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(layouttrials=0), "the layout trials must be in [1, 5]"),
     (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
      "the reference layer must be another layer than the control mesh (the current layer)"),
     (lambda ms: ms.apply_loop_surrogate_snap_points(surfacemesh=0),

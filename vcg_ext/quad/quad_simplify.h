@@ -116,6 +116,15 @@ struct QuadSimplifyParams {
   /// which keeps the paper's cost. 0 = off (default: a trade, not a gain — 20-60 % fewer
   /// irregular vertices, RMS limit error from -40 % to +80 % by mesh; docs/quad.md "Regularity").
   double valenceWeight = 0;
+  /// Layout trials under a budget (targetPatches > 0; issue 13, docs/quad.md "Layout trials"):
+  /// the layout pass runs with this many valence weights — valenceWeight first, then the first
+  /// others of kTrialValenceWeights (0, 0.25, 1, 0.05) — and keeps the cage that reaches the
+  /// budget (else comes closest to it) with the lowest RMS distance from the input's vertices to
+  /// its fitted limit (FitCatmullClark with default parameters, as the next filter fits it),
+  /// among the trials with no more flipped patches and vertices than the first. The error of one
+  /// layout moves by +-25 % with tiny changes of the collapse order (docs/quad.md "Regularity"),
+  /// so the best of several is a lower error for the time of several passes. 1 = one pass.
+  int layoutTrials = 1;
   /// Threads for a step's checks and projections (OpenMP's maximum when parallel): chosen from
   /// measured speed (AdaptiveParallelism, default), never, or always (tests). Same result.
   /// Never also runs the equalized layout's count pass before its layout pass instead of beside
@@ -216,6 +225,11 @@ struct QuadSimplifyResult {
   int budgetFromPatches = 0;
   int budgetStartFaces = 0;
   double secondsBudgetRetries = 0;  ///< the ladder's passes not kept (the first pass's too), in secondsTotal
+  /// Layout trials (layoutTrials > 1): the valence weight of the kept trial, how many ran, and
+  /// the time of those not kept (in secondsTotal).
+  double trialValenceWeight = -1;
+  int layoutTrialsRun = 0;
+  double secondsLayoutTrials = 0;
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
@@ -238,6 +252,13 @@ struct QuadSimplifyResult {
 /// targetPatches > 0): at most 2 % above it (one step removes a face and a few doublets). The
 /// budget ladder, the start refinement under a budget and the filter's warning all judge by it.
 inline bool BudgetReached(int patches, int target) { return patches <= target + target / 50; }
+
+/// Layout trials (QuadSimplifyParams::layoutTrials, docs/quad.md "Layout trials"): the valence
+/// weights tried after the user's own, in this order.
+inline constexpr double kTrialValenceWeights[] = {0, 0.25, 1, 0.05};
+/// The weights of `trials` layout trials: `first` (the user's valenceWeight), then the first of
+/// kTrialValenceWeights other than it (at most 1 + 4).
+std::vector<double> TrialValenceWeights(double first, int trials);
 
 /// Simplifies triangle mesh `input` into a pure-quad Catmull-Clark control mesh (§3.2–3.4).
 /// \param input  manifold, consistently oriented triangle mesh (double arrays)
