@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Benchmark of the whole pipeline (a command that prints figures, not a test):
-#   bench/pipeline_bench.sh [--runs N] [--patches N1,N2,...] [MESH ...]
+#   bench/pipeline_bench.sh [--runs N] [--patches N1,N2,...] [--trials K] [MESH ...]
 # For each mesh (default: bunny00 elephant fandisk from the libcgal-demo data) runs
 # meshlab_scripts/run_pipeline.sh at tau = 1% and 10% (median of N runs, default 3), plus a
 # baseline made only of MeshLab's stock filters: quadric edge collapse to twice the tau = 1%
 # patch count in triangles -> "Tri to Quad by smart triangle pairing" -> our fit and bake
 # (the paper's simplify-then-fit competitor). With --patches: instead of the two tau, this
 # product at each patch budget (`run_pipeline.sh --patches N`) and the baseline decimated to 2N
-# triangles (issue 13's equal-count comparison). Prints rows like the paper's Tables 1 and 2:
+# triangles (issue 13's equal-count comparison); --trials K adds a row per budget with K layout
+# trials (`run_pipeline.sh --trials K`, docs/quad.md "Layout trials"; its "simplif" column
+# includes the trials and any budget retries). Prints rows like the paper's Tables 1 and 2:
 # patches, irregular vertices, unprojectable %, RMS limit / displaced error (1/1000 of the
 # bbox diagonal), per-stage wall time, peak memory. Uses the installed plugin (run
 # scripts/setup.sh first, or any of the two README commands).
@@ -15,12 +17,14 @@ set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 RUNS=3
 PATCHLIST=""
+TRIALS=1
 meshes=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --runs) RUNS="$2"; shift 2 ;;
     --patches) PATCHLIST="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    --trials) TRIALS="$2"; shift 2 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) meshes+=("$1"); shift ;;
   esac
 done
@@ -31,12 +35,13 @@ trap 'rm -rf "$work"' EXIT
 results="$work/results.tsv"
 : > "$results"
 
-run_ours() {  # mesh tau run [patches] -> appends "mesh\talg\trun\twall\treport-path"
-  local mesh=$1 tau=$2 run=$3 budget=${4:-0} out="$work/$(basename "$1" .off)_$2_$3_${4:-0}"
+run_ours() {  # mesh tau run [patches [trials]] -> appends "mesh\talg\trun\twall\treport-path"
+  local mesh=$1 tau=$2 run=$3 budget=${4:-0} trials=${5:-1} out="$work/$(basename "$1" .off)_$2_$3_${4:-0}_${5:-1}"
   local t0 t1 alg="ours $tau%"
   [ "$budget" -gt 0 ] && alg="ours @$budget"
+  [ "$trials" -gt 1 ] && alg="$alg x$trials"
   t0=$(date +%s.%N)
-  FITMAP_SKIP_SETUP=1 "$REPO/meshlab_scripts/run_pipeline.sh" --tau "$tau" --patches "$budget" "$mesh" "$out" > "$out.log" 2>&1 \
+  FITMAP_SKIP_SETUP=1 "$REPO/meshlab_scripts/run_pipeline.sh" --tau "$tau" --patches "$budget" --trials "$trials" "$mesh" "$out" > "$out.log" 2>&1 \
     || { echo "pipeline failed on $mesh (tau $tau, patches $budget): see $out.log" >&2; tail -5 "$out.log" >&2; return 1; }
   t1=$(date +%s.%N)
   printf '%s\t%s\t%s\t%s\t%s\n' "$(basename "$mesh")" "$alg" "$run" "$(awk -v a="$t0" -v b="$t1" 'BEGIN{print b-a}')" "$out/report.json" >> "$results"
@@ -62,6 +67,7 @@ for mesh in "${meshes[@]}"; do
     for n in ${PATCHLIST//,/ }; do
       for r in $(seq "$RUNS"); do
         run_ours "$mesh" 1 "$r" "$n"
+        [ "$TRIALS" -gt 1 ] && run_ours "$mesh" 1 "$r" "$n" "$TRIALS"
         run_baseline "$mesh" $((2 * n)) "$r" "stock @$n" || run_baseline "$mesh" $((2 * n + 10)) "$r" "stock @$n" \
           || echo "baseline run $r on $(basename "$mesh") at $n skipped" >&2
       done
@@ -72,7 +78,7 @@ for mesh in "${meshes[@]}"; do
     for r in $(seq "$RUNS"); do run_ours "$mesh" "$tau" "$r"; done
   done
   patches=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['patches'])" \
-            "$work/$(basename "$mesh" .off)_1_1_0/report.json")
+            "$work/$(basename "$mesh" .off)_1_1_0_1/report.json")
   # MeshLab's stock pairing can leave a degenerate quad (a face repeating a vertex), which our
   # fit rejects with an error: then retry with a slightly different decimation target.
   for r in $(seq "$RUNS"); do
@@ -95,7 +101,7 @@ for (mesh, alg), runs in rows.items():
     reps = [r for _, r in runs]
     t = lambda k: med([r["time_s"].get(k, 0.0) for r in reps])
     fitbake = sum(t(k) for k in ("fit", "tessellate", "bake", "metrics", "fit_setup"))
-    simp = sum(t(k) for k in ("tri_to_quad", "initial_fit", "simplification"))
+    simp = sum(t(k) for k in ("tri_to_quad", "initial_fit", "simplification", "layout_trials", "budget_retries"))
     tris = reps[0].get("reference_faces", 0)
     print(f"{mesh + ' (' + str(round(tris / 1000)) + 'k)':<22}{alg:<19}{med([r['patches'] for r in reps]):>9.0f}"
           f"{med([r['irregular_vertices'] for r in reps]):>7.0f}{med([r['unprojectable_pct'] for r in reps]):>7.2f}"

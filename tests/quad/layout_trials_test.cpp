@@ -71,3 +71,32 @@ TEST(LayoutTrials, KeepTheLayoutThatFitsClosest) {
   }
   EXPECT_TRUE(keptFound) << r.trialValenceWeight;
 }
+
+// A budget the first pass misses: each trial goes down its own ladder (docs/quad.md "Budget
+// ladder"), so the trials are compared at the budget. The cigar of BudgetStoppedByTheThinPart-
+// GuardGoesDownTheLadder (its first pass: 24 patches for 12) with two trials reaches 12 patches by a
+// ladder's rung, and fits no farther than the one-trial run, which is its first trial.
+TEST(LayoutTrials, EachTrialGoesDownItsOwnLadder) {
+  auto t = testsupport::Icosphere(4);
+  for (auto& v : t.V) v = Vec3(v[0], 0.08 * v[1], 0.08 * v[2]);
+  vcgext::EmbreeScene scene(t);
+  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.2);
+  vcgext::QuadSimplifyParams p;
+  p.targetPatches = 12;
+  p.useMFitmap = false;
+  const auto one = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  p.layoutTrials = 2;
+  const auto two = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  ASSERT_EQ(one.error, "");
+  ASSERT_EQ(two.error, "");
+  ExpectGuarantees(t, two);
+  EXPECT_EQ(two.layoutTrialsRun, 2);
+  EXPECT_TRUE(vcgext::BudgetReached(two.patches, 12)) << two.patches;
+  EXPECT_GT(two.budgetRelaxations, 0) << "a rung's cage";
+  EXPECT_GT(two.budgetFromPatches, 12);
+  const double f1 = vcgext::simplify_internal::FittedReferenceRms(t, scene, one.quads);
+  const double f2 = vcgext::simplify_internal::FittedReferenceRms(t, scene, two.quads);
+  std::printf("cigar, budget 12: one trial %d patches (rung %d) fitted %.5f; two trials %d patches (rung %d, weight %g) fitted %.5f\n",
+              one.patches, one.budgetRelaxations, f1, two.patches, two.budgetRelaxations, two.trialValenceWeight, f2);
+  EXPECT_LE(f2, f1);
+}

@@ -58,18 +58,15 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads) {
   const int target = params.targetPatches;
   const auto reached = [target](const QuadSimplifyResult& x) { return BudgetReached(x.patches, target); };
-  QuadSimplifyResult r = LayoutTrials(input, start, scene, S, M, params, prog, initialQuads);
+  QuadSimplifyResult r = SimplifyOnce(input, start, scene, S, M, LayoutParams(params, target), prog, initialQuads);
   if (!r.error.empty() || reached(r) || !(params.deviationFactor > 0)) return r;
-  // the retries lay out with the kept trial's valence weight
-  QuadSimplifyParams rp = params;
-  if (r.trialValenceWeight >= 0) rp.valenceWeight = r.trialValenceWeight;
   QuadSimplifyResult best;  // the retry kept so far (patches 0: none)
   double spent = 0;         // seconds of the retries not kept
   std::string notes;        // why retries were not kept
   double rFitted = -1;      // the first pass's fitted RMS (RetryCoversAsWell)
   // one retry from `from` with the guard factor `guard`; rung: its place in the ladder
   auto attempt = [&](const TriData& from, double guard, int rung, const char* what) {
-    QuadSimplifyParams lp = LayoutParams(rp, target);
+    QuadSimplifyParams lp = LayoutParams(params, target);
     lp.deviationFactor = guard;
     QuadSimplifyResult g = SimplifyOnce(input, from, scene, S, M, lp, prog.Sub(90, 100), initialQuads);
     const QuadSimplifyResult& cur = best.patches > 0 ? best : r;
@@ -127,11 +124,8 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
     r.secondsBudgetRetries = spent;
     return r;
   }
-  best.secondsBudgetRetries = r.secondsTotal - r.secondsLayoutTrials + spent;
-  best.trialValenceWeight = r.trialValenceWeight;
-  best.layoutTrialsRun = r.layoutTrialsRun;
-  best.secondsLayoutTrials = r.secondsLayoutTrials;
-  best.secondsTotal += best.secondsBudgetRetries + best.secondsLayoutTrials;
+  best.secondsBudgetRetries = r.secondsTotal + spent;
+  best.secondsTotal += best.secondsBudgetRetries;
   return best;
 }
 

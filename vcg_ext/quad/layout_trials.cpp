@@ -1,7 +1,9 @@
 /// \file layout_trials.cpp
-/// Under a budget: the layout pass with several valence weights, the cage that fits closest kept
+/// Under a budget: the layout pass (and its ladder) with several valence weights, the cage that
+/// fits closest kept
 /// (QuadSimplifyParams::layoutTrials; docs/quad.md "Layout trials").
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <limits>
 
@@ -36,37 +38,37 @@ QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, cons
   const int target = params.targetPatches;
   const std::vector<double> weights = TrialValenceWeights(params.valenceWeight, std::max(1, params.layoutTrials));
   const int n = int(weights.size());
-  auto pass = [&](int i) {
-    QuadSimplifyParams lp = LayoutParams(params, target);
-    lp.valenceWeight = weights[size_t(i)];
+  if (n == 1) return BudgetLadder(input, start, scene, S, M, params, prog, initialQuads);
+  const auto t0 = std::chrono::steady_clock::now();
+  // trial i: the budget's layout pass and, where it stops above the budget, its ladder
+  auto trial = [&](int i) {
+    QuadSimplifyParams tp = params;
+    tp.valenceWeight = weights[size_t(i)];
     Progress sub = prog.Sub(100.0 * i / n, 100.0 * (i + 1) / n);
-    return SimplifyOnce(input, start, scene, S, M, lp, n == 1 ? prog : sub, initialQuads);
+    QuadSimplifyResult g = BudgetLadder(input, start, scene, S, M, tp, sub, initialQuads);
+    g.trialValenceWeight = tp.valenceWeight;
+    return g;
   };
-  QuadSimplifyResult kept = pass(0);
-  if (n == 1 || !kept.error.empty()) return kept;
   const auto fitted = [&](const QuadSimplifyResult& x) {
     return BudgetReached(x.patches, target) ? FittedReferenceRms(input, scene, x.quads)
                                             : std::numeric_limits<double>::infinity();
   };
+  QuadSimplifyResult kept = trial(0);
+  if (!kept.error.empty()) return kept;
   const int firstFlips = kept.flippedPatches + kept.flippedVertices;
-  double keptFit = fitted(kept), spent = 0;
-  kept.trialValenceWeight = weights[0];
+  double keptFit = fitted(kept);
   for (int i = 1; i < n; ++i) {
-    QuadSimplifyResult g = pass(i);
-    const bool usable = g.error.empty() && g.flippedPatches + g.flippedVertices <= firstFlips;
-    const double gFit = usable ? fitted(g) : std::numeric_limits<double>::infinity();
-    if (!usable || !TrialBeats(g, gFit, kept, keptFit, target)) {
-      spent += g.secondsTotal;
-      continue;
-    }
-    spent += kept.secondsTotal;
-    g.trialValenceWeight = weights[size_t(i)];
+    QuadSimplifyResult g = trial(i);
+    if (!g.error.empty() || g.flippedPatches + g.flippedVertices > firstFlips) continue;
+    const double gFit = fitted(g);
+    if (!TrialBeats(g, gFit, kept, keptFit, target)) continue;
     kept = std::move(g);
     keptFit = gFit;
   }
   kept.layoutTrialsRun = n;
-  kept.secondsLayoutTrials = spent;
-  kept.secondsTotal += spent;
+  const double all = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  kept.secondsLayoutTrials = std::max(0.0, all - kept.secondsTotal);
+  kept.secondsTotal = all;
   return kept;
 }
 

@@ -122,7 +122,7 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
   Progress prog(cb);
   const bool equalized = params.layout == QuadSimplifyParams::Layout::Equalized;
   if (equalized && params.targetPatches > 0)  // a budget: the layout pass alone (M would halt above it)
-    return BudgetLadder(input, start, scene, S, M, params, prog, initialQuads);
+    return LayoutTrials(input, start, scene, S, M, params, prog, initialQuads);
   if (!equalized || !params.useMFitmap) return SimplifyOnce(input, start, scene, S, M, params, prog, initialQuads);
   res = EqualizedLayout(input, start, scene, S, M, params, prog, initialQuads);
   if (!res.error.empty()) return res;

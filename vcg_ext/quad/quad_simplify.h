@@ -117,7 +117,7 @@ struct QuadSimplifyParams {
   /// irregular vertices, RMS limit error from -40 % to +80 % by mesh; docs/quad.md "Regularity").
   double valenceWeight = 0;
   /// Layout trials under a budget (targetPatches > 0; issue 13, docs/quad.md "Layout trials"):
-  /// the layout pass runs with this many valence weights — valenceWeight first, then the first
+  /// the layout pass (and its budget ladder) runs with this many valence weights — valenceWeight first, then the first
   /// others of kTrialValenceWeights (0, 0.25, 1, 0.05) — and keeps the cage that reaches the
   /// budget (else comes closest to it) with the lowest RMS distance from the input's vertices to
   /// its fitted limit (FitCatmullClark with default parameters, as the next filter fits it),

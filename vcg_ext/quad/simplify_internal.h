@@ -111,11 +111,11 @@ inline QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int pat
 ///     tolerance elephant reached 200 patches with 10 % of its area unprojectable;
 ///  2. a start decimated to 4 N triangles (2 N quads), the guard as given, then doubled: on the
 ///     working start the guard keeps every finger of man's fist apart (1 788 patches for 400).
-/// The layout pass under a budget, once per weight of TrialValenceWeights(valenceWeight,
+/// A budget's layout: BudgetLadder once per weight of TrialValenceWeights(valenceWeight,
 /// layoutTrials); kept: the trial that reaches the budget (else comes closest) with the lowest
 /// FittedReferenceRms, among those with no more flipped patches and vertices than the first.
-/// One trial: SimplifyOnce alone. The time of the trials not kept and of their fits is in
-/// secondsLayoutTrials (and secondsTotal).
+/// One trial: BudgetLadder alone. The time of the trials not kept and of the fits that compared
+/// them is in secondsLayoutTrials (and secondsTotal).
 QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads);
