@@ -107,8 +107,15 @@ LimitSurface LimitSurface::FromTriangles(const TriData& t, LimitSurfaceOptions o
   return s;
 }
 
-std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
-  const bool loop = opt_.scheme == SubdivScheme::Loop;
+namespace {
+
+// Per undirected edge: how many face sides use it, the first two (face, corner) and the first
+// side's start vertex.
+struct EdgeInfo { int count = 0; int f0 = -1, k0 = -1, f1 = -1, k1 = -1; int a0 = -1; };
+using EdgeInfoTable = std::unordered_map<std::uint64_t, EdgeInfo>;
+
+// A mesh at all, face sizes (3 for Loop, else at least 3) and their sum against the index list.
+std::string CheckFaceSizes(int nV, const std::vector<int>& sizes, const std::vector<int>& verts, bool loop) {
   if (nV <= 0) return "the control mesh has no vertices";
   if (sizes.empty()) return "the control mesh has no faces";
   size_t total = 0;
@@ -125,6 +132,11 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   if (total != verts.size())
     return "face sizes add up to " + std::to_string(total) + " corners but " + std::to_string(verts.size()) +
            " vertex indices were given";
+  return {};
+}
+
+// Face corners: vertex indices in range, no vertex twice in a face.
+std::string CheckFaceCorners(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
   int badIdx = 0, firstBadIdx = -1, rep = 0, firstRep = -1;
   for (size_t f = 0, o = 0; f < sizes.size(); o += sizes[f], ++f) {
     for (int k = 0; k < sizes[f]; ++k) {
@@ -139,10 +151,12 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
            ") (first: face " + std::to_string(firstBadIdx) + ")";
   if (rep)
     return std::to_string(rep) + " faces repeat a vertex (first: face " + std::to_string(firstRep) + ")";
+  return {};
+}
 
-  // Edges: each directed edge at most once, each undirected edge in at most two faces.
-  struct EdgeInfo { int count = 0; int f0 = -1, k0 = -1, f1 = -1, k1 = -1; int a0 = -1; };
-  std::unordered_map<std::uint64_t, EdgeInfo> edges;
+// Edges: each directed edge at most once, each undirected edge in at most two faces. Fills
+// `edges` (empty on entry).
+std::string CollectEdges(const std::vector<int>& sizes, const std::vector<int>& verts, EdgeInfoTable& edges) {
   edges.reserve(verts.size());
   int nonMan = 0, flipped = 0;
   std::pair<int, int> firstNonMan{-1, -1}, firstFlip{-1, -1};
@@ -168,15 +182,24 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   if (flipped)
     return std::to_string(flipped) + " edges join faces of inconsistent orientation (first: vertices " +
            std::to_string(firstFlip.first) + "-" + std::to_string(firstFlip.second) + ")";
-  for (const auto& c : opt_.creaseEdges) {
+  return {};
+}
+
+// Crease edges are mesh edges, corner vertices are in range.
+std::string CheckSharpFeatures(int nV, const LimitSurfaceOptions& opt, const EdgeInfoTable& edges) {
+  for (const auto& c : opt.creaseEdges) {
     if (c.first < 0 || c.first >= nV || c.second < 0 || c.second >= nV || !edges.count(EdgeKey(c.first, c.second)))
       return "crease edge " + std::to_string(c.first) + "-" + std::to_string(c.second) + " is not an edge of the mesh";
   }
-  for (int c : opt_.cornerVertices)
+  for (int c : opt.cornerVertices)
     if (c < 0 || c >= nV) return "corner vertex " + std::to_string(c) + " is out of range";
+  return {};
+}
 
-  // Non-manifold vertices (several fans of faces meeting at one vertex): union the corners of a
-  // vertex across its interior edges, then count fans per vertex.
+// Non-manifold vertices (several fans of faces meeting at one vertex): union the corners of a
+// vertex across its interior edges, then count fans per vertex.
+std::string CheckVertexFans(int nV, const std::vector<int>& sizes, const std::vector<int>& verts,
+                            const EdgeInfoTable& edges) {
   std::vector<int> cornerOffs(sizes.size() + 1, 0);
   for (size_t f = 0; f < sizes.size(); ++f) cornerOffs[f + 1] = cornerOffs[f] + sizes[f];
   UnionFind uf(int(verts.size()));
@@ -203,34 +226,67 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   if (bowtie)
     return std::to_string(bowtie) + " non-manifold vertices (several separate fans of faces; first: vertex " +
            std::to_string(firstBowtie) + ")";
+  return {};
+}
 
-  // Valences, boundary flags, irregular vertices.
+// Valences (into `valence`) and boundary flags (returned) of the vertices.
+std::vector<char> CountValences(int nV, const EdgeInfoTable& edges, std::vector<int>& valence) {
   std::vector<char> boundary(nV, 0);
-  valence_.assign(nV, 0);
+  valence.assign(nV, 0);
   for (const auto& kv : edges) {
     int a = int(kv.first >> 32), b = int(kv.first & 0xffffffffu);
-    ++valence_[a];
-    ++valence_[b];
+    ++valence[a];
+    ++valence[b];
     if (kv.second.count == 1) boundary[a] = boundary[b] = 1;
   }
-  // Interior valence-2 vertices (doublets): OpenSubdiv 3.5.0's Bfr returns surfaces whose
-  // control-point indices are partly uninitialised around them (found with valgrind on a
-  // decimated + paired elephant; it crashed the fit). Refuse them with a clear message.
+  return boundary;
+}
+
+// Interior valence-2 vertices (doublets): OpenSubdiv 3.5.0's Bfr returns surfaces whose
+// control-point indices are partly uninitialised around them (found with valgrind on a
+// decimated + paired elephant; it crashed the fit). Refuse them with a clear message.
+std::string CheckDoublets(int nV, const std::vector<int>& valence, const std::vector<char>& boundary) {
   int doublets = 0, firstDoublet = -1;
   for (int v = 0; v < nV; ++v)
-    if (valence_[v] == 2 && !boundary[v]) {
+    if (valence[v] == 2 && !boundary[v]) {
       if (firstDoublet < 0) firstDoublet = v;
       ++doublets;
     }
   if (doublets)
     return std::to_string(doublets) + " interior vertices have valence 2 (doublets; first: vertex " +
            std::to_string(firstDoublet) + "): remove them first (e.g. vcgext::RemoveDoublets merges the two faces)";
-  numIrregular_ = 0;
+  return {};
+}
+
+// Irregular vertices: valence other than the scheme's regular interior / boundary valence
+// (isolated vertices do not count).
+int CountIrregular(int nV, const std::vector<int>& valence, const std::vector<char>& boundary, bool loop) {
+  int irregular = 0;
   const int regInterior = loop ? 6 : 4, regBoundary = loop ? 4 : 3;
   for (int v = 0; v < nV; ++v) {
-    if (valence_[v] == 0) continue;
-    if (valence_[v] != (boundary[v] ? regBoundary : regInterior)) ++numIrregular_;
+    if (valence[v] == 0) continue;
+    if (valence[v] != (boundary[v] ? regBoundary : regInterior)) ++irregular;
   }
+  return irregular;
+}
+
+}  // namespace
+
+std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
+  const bool loop = opt_.scheme == SubdivScheme::Loop;
+  std::string err = CheckFaceSizes(nV, sizes, verts, loop);
+  if (err.empty()) err = CheckFaceCorners(nV, sizes, verts);
+  if (!err.empty()) return err;
+  EdgeInfoTable edges;
+  err = CollectEdges(sizes, verts, edges);
+  if (err.empty()) err = CheckSharpFeatures(nV, opt_, edges);
+  if (err.empty()) err = CheckVertexFans(nV, sizes, verts, edges);
+  if (!err.empty()) return err;
+  // Valences, boundary flags, irregular vertices.
+  const std::vector<char> boundary = CountValences(nV, edges, valence_);
+  err = CheckDoublets(nV, valence_, boundary);
+  if (!err.empty()) return err;
+  numIrregular_ = CountIrregular(nV, valence_, boundary, loop);
   return {};
 }
 
