@@ -73,14 +73,11 @@ void InitFitParams(const MeshDocument& md, RichParameterList& par) {
                           "reference mesh file (or in the temporary folder)."));
 }
 
-bool ApplyFit(GlueContext& ctx) {
-  MeshModel& control = *ctx.md.mm();
-  MeshModel* refModel = GetMeshParam(ctx.md, ctx.par, param::kReferenceMesh);
-  if (!refModel) return ctx.Fail("the reference layer is missing");
-  if (refModel == &control)
-    return ctx.Fail("the reference layer must be another layer than the control mesh (the current layer)");
+namespace {
 
-  vcgext::QuadData quads;
+// The control layer as quads, at the precision of MeshLab 2020.09's float layer, doublets
+// merged; logs what was paired or merged.
+bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& quads) {
   int ambiguous = 0;
   std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
   if (!err.empty()) return ctx.Fail(err);
@@ -93,14 +90,21 @@ bool ApplyFit(GlueContext& ctx) {
   // valence-2 vertices): merge them, as the simplification does (§3.3.3).
   if (int nd = vcgext::RemoveDoublets(quads))
     ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) + " doublets (interior valence-2 vertices) of the control mesh");
-  // The reference's working copy (input_prep.h): stray vertices are no surface to fit.
-  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(refModel->cm);
+  return true;
+}
+
+// The reference's working copy (input_prep.h): stray vertices are no surface to fit. Logs its
+// repairs and warnings.
+bool PrepareReference(GlueContext& ctx, MeshModel& refModel, vcgext::WorkingCopy& w) {
+  w = vcgext::PrepareWorkingCopy(refModel.cm);
   if (!w.error.empty()) return ctx.Fail("reference layer: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fit Catmull-Clark Surface: reference layer: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: reference layer: " + n);
-  const vcgext::TriData& ref = w.mesh;
+  return true;
+}
 
-  vcgext::FitBakeParams p;
+// The filter's parameters as FitBakeParams; fails on a value out of range.
+bool ReadFitParams(GlueContext& ctx, vcgext::FitBakeParams& p) {
   p.limitSegments = ctx.par.getInt(param::kLimitSegments);
   p.textureResolution = ctx.par.getInt(param::kTextureResolution);
   p.normalMap = ctx.par.getBool(param::kNormalMap);
@@ -119,72 +123,82 @@ bool ApplyFit(GlueContext& ctx) {
   if (!(p.maxDistPercent > 0 && p.maxDistPercent <= 100)) return ctx.Fail("max distance must be in (0, 100] percent");
   if (p.fit.maxIterations < 1 || p.fit.maxIterations > 100) return ctx.Fail("fit iterations must be in [1, 100]");
   if (!(p.fit.smoothWeight >= 0 && p.fit.smoothWeight <= 10)) return ctx.Fail("control cage smoothing must be in [0, 10]");
+  return true;
+}
 
+// The output folder (absolute; empty parameter: <reference>_cc next to the reference mesh
+// file, or in the temporary folder), created.
+bool MakeOutputDir(GlueContext& ctx, MeshModel& refModel, std::string& dir) {
   QString outDir = ctx.par.getString(param::kOutputDir).trimmed();
   if (outDir.isEmpty()) {
-    QFileInfo fi(refModel->fullName());
-    outDir = (refModel->fullName().isEmpty() ? QDir::tempPath() : fi.absolutePath()) + "/" +
+    QFileInfo fi(refModel.fullName());
+    outDir = (refModel.fullName().isEmpty() ? QDir::tempPath() : fi.absolutePath()) + "/" +
              (fi.completeBaseName().isEmpty() ? QString("fitmap") : fi.completeBaseName()) + "_cc";
   }
   outDir = QDir(outDir).absolutePath();
   if (!QDir().mkpath(outDir)) return ctx.Fail("cannot create the output folder " + outDir.toStdString());
+  dir = outDir.toStdString();
+  return true;
+}
 
-  vcgext::EmbreeScene scene(ref);
-  if (!scene.Ok()) return ctx.Fail(scene.Error());
-  vcgext::FitBakeResult r = vcgext::FitAndBake(quads, ref, scene, p, ctx.cb);
-  if (!r.error.empty()) return ctx.Fail("Fit Catmull-Clark Surface: " + r.error);
-
-  // Files first: a layer's texture must exist when MeshLab shows it.
-  const std::string dir = outDir.toStdString();
+// The displacement (and normal) textures, their layout and the control mesh as OBJ and PLY.
+bool WriteTexturesAndControl(GlueContext& ctx, const std::string& dir, bool normalMap, const vcgext::FitBakeResult& r) {
   const std::string png = dir + "/displacement.png";
-  const std::string nrm = p.normalMap ? dir + "/normal.png" : "";
+  const std::string nrm = normalMap ? dir + "/normal.png" : "";
   for (std::string e : {vcgext::WritePngGray16(png, r.atlas.width, r.atlas.height, r.atlas.q16),
-                        p.normalMap ? vcgext::WritePngRgb8(nrm, r.atlas.width, r.atlas.height, r.atlas.normalRGB)
-                                    : std::string(),
+                        normalMap ? vcgext::WritePngRgb8(nrm, r.atlas.width, r.atlas.height, r.atlas.normalRGB)
+                                  : std::string(),
                         vcgext::WriteAtlasJson(dir + "/displacement.json", r.atlas, "displacement.png",
-                                               p.normalMap ? "normal.png" : ""),
+                                               normalMap ? "normal.png" : ""),
                         vcgext::WriteQuadObj(dir + "/control.obj", r.fit.control, r.atlas.wedgeUV,
                                              "displacement.png"),
                         vcgext::WriteQuadPly(dir + "/control.ply", r.fit.control)})
     if (!e.empty()) return ctx.Fail(e);
-  StageTimes earlier = GetStageTimes(control.cm);
-  StageMemory earlierMemory = GetStageMemory(control.cm);
-  err = vcgext::WriteReportJson(dir + "/report.json", r, earlier, earlierMemory);
-  if (!err.empty()) return ctx.Fail(err);
+  return true;
+}
 
-  // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
-  const QString base = control.label();
+// The fitted control layer: quads, per-wedge UVs, the displacement texture, and the times and
+// memory of the earlier stages followed by this filter's.
+MeshModel* AddFittedLayer(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r,
+                          const std::string& png, StageTimes all, StageMemory memory) {
   MeshModel* fitted = ctx.md.addNewMesh("", base + " fitted", false);
   fitted->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.fit.control, fitted->cm, &r.atlas.wedgeUV);
   AddTexture(*fitted, png);
   UpdateBoxAndNormals(*fitted);
-  StageTimes all = earlier;
   for (const auto& t : r.times) all.push_back(t);
   SetStageTimes(fitted->cm, all);
-  for (const auto& m : r.memory) earlierMemory.push_back(m);
-  SetStageMemory(fitted->cm, earlierMemory);
+  for (const auto& m : r.memory) memory.push_back(m);
+  SetStageMemory(fitted->cm, memory);
+  return fitted;
+}
 
-  // Both surfaces are coloured over one symmetric range (the limit layer's 1-99 % percentiles), so
-  // their colours compare: green = on the reference, red / blue = below / above it.
+// A tessellated surface as a layer, quality coloured over [-range, range]; the first surface
+// (range 0) sets range from its 1-99 % quality percentiles.
+void AddSurfaceLayer(GlueContext& ctx, const vcgext::LimitTessellation& t, const QString& name, double& range) {
+  MeshModel* m = ctx.md.addNewMesh("", name, false);
+  m->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
+  vcgext::ExportTriangles(t.mesh, m->cm, t.quality.empty() ? nullptr : &t.quality);
+  if (range == 0) {
+    const auto pr = vcgext::QualityPercentiles(m->cm, 1.0, 99.0);
+    range = std::max({std::abs(pr.first), std::abs(pr.second), 1e-12});
+  }
+  vcgext::ColorizeQualityRange(m->cm, -range, range);
+  UpdateBoxAndNormals(*m);
+}
+
+// Both surfaces are coloured over one symmetric range (the limit layer's 1-99 % percentiles), so
+// their colours compare: green = on the reference, red / blue = below / above it.
+void AddSurfaceLayers(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r) {
   double range = 0;
-  auto addSurface = [&](const vcgext::LimitTessellation& t, const QString& name) {
-    MeshModel* m = ctx.md.addNewMesh("", name, false);
-    m->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
-    vcgext::ExportTriangles(t.mesh, m->cm, t.quality.empty() ? nullptr : &t.quality);
-    if (range == 0) {
-      const auto pr = vcgext::QualityPercentiles(m->cm, 1.0, 99.0);
-      range = std::max({std::abs(pr.first), std::abs(pr.second), 1e-12});
-    }
-    vcgext::ColorizeQualityRange(m->cm, -range, range);
-    UpdateBoxAndNormals(*m);
-  };
-  addSurface(r.limit, base + " limit");
-  addSurface(r.displaced, base + " displaced");
+  AddSurfaceLayer(ctx, r.limit, base + " limit", range);
+  AddSurfaceLayer(ctx, r.displaced, base + " displaced", range);
   ctx.log("Fit Catmull-Clark Surface: limit and displaced layers coloured by signed distance to the reference over [" +
           std::to_string(-range) + ", " + std::to_string(range) + "] (red below, blue above)");
-  ctx.md.setCurrentMesh(fitted->id());
+}
 
+// The report and warnings in the log, the figures returned to the caller, the files written.
+void ReportFit(GlueContext& ctx, const vcgext::FitBakeResult& r, bool normalMap, const std::string& dir) {
   ctx.log(vcgext::FormatReport(r));
   for (const auto& w : r.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: " + w);
   ctx.Value("patches", r.fit.patches);
@@ -196,7 +210,45 @@ bool ApplyFit(GlueContext& ctx) {
   ctx.Value("unprojectable_pct", r.metrics.unprojectablePct);
   ctx.Value("warnings", double(r.warnings.size()));
   ctx.log("Fit Catmull-Clark Surface: wrote displacement.png, displacement.json, " +
-          std::string(p.normalMap ? "normal.png, " : "") + "control.obj (+ .mtl), control.ply, report.json to " + dir);
+          std::string(normalMap ? "normal.png, " : "") + "control.obj (+ .mtl), control.ply, report.json to " + dir);
+}
+
+}  // namespace
+
+bool ApplyFit(GlueContext& ctx) {
+  MeshModel& control = *ctx.md.mm();
+  MeshModel* refModel = GetMeshParam(ctx.md, ctx.par, param::kReferenceMesh);
+  if (!refModel) return ctx.Fail("the reference layer is missing");
+  if (refModel == &control)
+    return ctx.Fail("the reference layer must be another layer than the control mesh (the current layer)");
+  vcgext::QuadData quads;
+  if (!ReadControlQuads(ctx, control, quads)) return false;
+  vcgext::WorkingCopy w;
+  if (!PrepareReference(ctx, *refModel, w)) return false;
+  const vcgext::TriData& ref = w.mesh;
+  vcgext::FitBakeParams p;
+  if (!ReadFitParams(ctx, p)) return false;
+  std::string dir;
+  if (!MakeOutputDir(ctx, *refModel, dir)) return false;
+
+  vcgext::EmbreeScene scene(ref);
+  if (!scene.Ok()) return ctx.Fail(scene.Error());
+  vcgext::FitBakeResult r = vcgext::FitAndBake(quads, ref, scene, p, ctx.cb);
+  if (!r.error.empty()) return ctx.Fail("Fit Catmull-Clark Surface: " + r.error);
+
+  // Files first: a layer's texture must exist when MeshLab shows it.
+  if (!WriteTexturesAndControl(ctx, dir, p.normalMap, r)) return false;
+  StageTimes earlier = GetStageTimes(control.cm);
+  StageMemory earlierMemory = GetStageMemory(control.cm);
+  const std::string err = vcgext::WriteReportJson(dir + "/report.json", r, earlier, earlierMemory);
+  if (!err.empty()) return ctx.Fail(err);
+
+  // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
+  const QString base = control.label();
+  MeshModel* fitted = AddFittedLayer(ctx, base, r, dir + "/displacement.png", earlier, earlierMemory);
+  AddSurfaceLayers(ctx, base, r);
+  ctx.md.setCurrentMesh(fitted->id());
+  ReportFit(ctx, r, p.normalMap, dir);
   return true;
 }
 
