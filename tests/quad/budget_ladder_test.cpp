@@ -34,13 +34,12 @@ using vcgext::Vec3;
 // last rung). The kept cage says how it was made and is the plain run's from that start bit for
 // bit. A budget the first pass reaches is untouched.
 TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardGoesDownTheLadder) {
-  auto t = testsupport::Icosphere(4);
-  for (auto& v : t.V) v = Vec3(v[0], 0.08 * v[1], 0.08 * v[2]);
+  quadtest::CigarBudget c;
+  const auto& t = c.t;
+  const auto& S = c.S;
+  const auto& M = c.M;
+  auto p = c.p;
   vcgext::EmbreeScene scene(t);
-  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.2);
-  vcgext::QuadSimplifyParams p;
-  p.targetPatches = 12;
-  p.useMFitmap = false;
   auto r = vcgext::SimplifyToQuads(t, scene, S, M, p);
   ASSERT_EQ(r.error, "");
   vcgext::quad::QuadMesh q(r.quads.V, r.quads.F);

@@ -77,16 +77,12 @@ TEST(LayoutTrials, KeepTheLayoutThatFitsClosest) {
 // GuardGoesDownTheLadder (its first pass: 24 patches for 12) with two trials reaches 12 patches by a
 // ladder's rung, and fits no farther than the one-trial run, which is its first trial.
 TEST(LayoutTrials, EachTrialGoesDownItsOwnLadder) {
-  auto t = testsupport::Icosphere(4);
-  for (auto& v : t.V) v = Vec3(v[0], 0.08 * v[1], 0.08 * v[2]);
+  quadtest::CigarBudget c;
+  const auto& t = c.t;
   vcgext::EmbreeScene scene(t);
-  std::vector<double> S(t.V.size(), 1.0), M(t.V.size(), 0.2);
-  vcgext::QuadSimplifyParams p;
-  p.targetPatches = 12;
-  p.useMFitmap = false;
-  const auto one = vcgext::SimplifyToQuads(t, scene, S, M, p);
-  p.layoutTrials = 2;
-  const auto two = vcgext::SimplifyToQuads(t, scene, S, M, p);
+  const auto one = vcgext::SimplifyToQuads(t, scene, c.S, c.M, c.p);
+  c.p.layoutTrials = 2;
+  const auto two = vcgext::SimplifyToQuads(t, scene, c.S, c.M, c.p);
   ASSERT_EQ(one.error, "");
   ASSERT_EQ(two.error, "");
   ExpectGuarantees(t, two);

@@ -1,13 +1,15 @@
 #pragma once
 /// Shared by the simplification's tests (quad_simplify_test.cpp and the tests of its pieces:
-/// equalized_layout_test.cpp, coverage_test.cpp, budget_ladder_test.cpp): the guarantees every
-/// final cage must keep, synthetic Fitmaps for real scans, and a limit-to-input distance.
+/// equalized_layout_test.cpp, coverage_test.cpp, budget_ladder_test.cpp, layout_trials_test.cpp):
+/// the guarantees every final cage must keep, synthetic Fitmaps for real scans, a limit-to-input
+/// distance, the cigar of the budget tests.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "test_support.h"
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/quad_simplify.h"
@@ -15,6 +17,22 @@
 #include "vcg_ext/subdiv/limit_surface.h"
 
 namespace quadtest {
+
+// The cigar of ThinPartGuardKeepsTheLimitOnAThinShape (an icosphere of 5 120 triangles squeezed to
+// 0.08 across), flat Fitmaps (S 1, M 0.2) and a 12-patch budget without the M test: the budget
+// ladder's case (its first pass stops at 24 patches).
+struct CigarBudget {
+  vcgext::TriData t = testsupport::Icosphere(4);
+  std::vector<double> S, M;
+  vcgext::QuadSimplifyParams p;
+  CigarBudget() {
+    for (auto& v : t.V) v = vcgext::Vec3(v[0], 0.08 * v[1], 0.08 * v[2]);
+    S.assign(t.V.size(), 1.0);
+    M.assign(t.V.size(), 0.2);
+    p.targetPatches = 12;
+    p.useMFitmap = false;
+  }
+};
 
 // Guarantees on a final mesh: pure valid quads, no interior valence 2, Euler characteristic and
 // boundary loops as the input, all patches projectable with agreeing normals.
