@@ -269,6 +269,9 @@ bool ApplyQuad(GlueContext& ctx) {
   double tau = 0;
   int workingFaces = 0;
   if (!QuadParams(ctx, p, tau, workingFaces)) return false;
+  if (p.layoutTrials > 1 && !(p.targetPatches > 0 && p.layout == vcgext::QuadSimplifyParams::Layout::Equalized))
+    ctx.log("Warning: Fitmap Quad Simplification: layout trials need a target patch count (and the equalized "
+            "layout): one layout");
 
   // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
   vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(in.cm);

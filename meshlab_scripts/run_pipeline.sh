@@ -59,6 +59,7 @@ done
 [[ "$PATCHES" =~ ^[0-9]+$ ]] || { echo "run_pipeline: --patches takes a whole number" >&2; exit 2; }
 [[ "$REGULARITY" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --regularity takes a number >= 0" >&2; exit 2; }
 [[ "$TRIALS" =~ ^[1-5]$ ]] || { echo "run_pipeline: --trials takes a whole number from 1 to 5" >&2; exit 2; }
+[ "$TRIALS" = 1 ] || [ "$PATCHES" != 0 ] || echo "run_pipeline: --trials needs --patches N: one layout" >&2
 
 # FITMAP_SKIP_SETUP=1: use the existing build/install (the end-to-end tests do).
 [ "${FITMAP_SKIP_SETUP:-0}" = 1 ] || bash "$REPO/scripts/setup.sh"

@@ -249,4 +249,16 @@ TEST(RunPipeline, LayoutTrialsKeepTheCageThatFitsClosest) {
   EXPECT_LE(rms[1], 1.02 * rms[0]) << rms[0] << " -> " << rms[1];
 }
 
+// Layout trials without a budget do nothing, and say so (the script and the filter's log) instead
+// of silently running one layout.
+TEST(RunPipeline, LayoutTrialsWithoutABudgetAreNamedAndIgnored) {
+  const std::string outdir = e2e::OutPath("pipeline_trials_no_budget");
+  auto r = RunOnSample("--trials 3", "elephant.off", outdir);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("--trials needs --patches N"), std::string::npos) << r.output;
+  const std::string log = e2e::Slurp(outdir + "/meshlab.log");
+  EXPECT_NE(log.find("layout trials need a target patch count"), std::string::npos) << log;
+  EXPECT_EQ(log.find("layout trials ("), std::string::npos) << log;
+}
+
 }  // namespace
