@@ -198,8 +198,8 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
     std::ostringstream t;
     t << "Fitmap Quad Simplification: " << r.layoutTrialsRun << " layout trials (valence weights";
     for (double w : vcgext::TrialValenceWeights(p.valenceWeight, r.layoutTrialsRun)) t << " " << w;
-    t << "): kept the one with weight " << r.trialValenceWeight << " (the closest fitted limit); the others took "
-      << r.secondsLayoutTrials << " s";
+    t << "): kept the one with weight " << r.trialValenceWeight << " (the closest fitted limit; weight: patches, "
+      << "RMS per mille: " << r.layoutTrialsSummary << "); the others took " << r.secondsLayoutTrials << " s";
     ctx.log(t.str());
   }
   if (r.startRefinements > 0)

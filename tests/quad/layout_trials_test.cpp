@@ -28,7 +28,7 @@ TEST(LayoutTrials, WeightsStartWithTheUsersOwn) {
 
 // An ellipsoid (5 120 triangles, S from curvature) with a budget of 100 patches and 4 trials: the
 // kept cage is, bit for bit, the single layout with the kept weight; brute force over the four
-// single layouts, none that reaches the budget fits closer (FittedReferenceRms, the selection's
+// single layouts, none that reaches the budget fits closer (TrialFittedRms, the selection's
 // measure: the RMS distance from the input's vertices to the fitted limit); the guarantees hold
 // (the layout pass's validity after every operation is QuadSimplify's tests'); one trial is the
 // plain layout pass.
@@ -47,7 +47,7 @@ TEST(LayoutTrials, KeepTheLayoutThatFitsClosest) {
   EXPECT_TRUE(vcgext::BudgetReached(r.patches, 100)) << r.patches;
   EXPECT_EQ(r.layoutTrialsRun, 4);
   EXPECT_GT(r.secondsLayoutTrials, 0);
-  const double kept = vcgext::simplify_internal::FittedReferenceRms(t, scene, r.quads);
+  const double kept = vcgext::simplify_internal::TrialFittedRms(t, scene, r.quads);
   std::printf("ellipsoid, 100 patches, 4 trials: kept weight %g, %d patches, %d irregular, fitted RMS %.5f\n",
               r.trialValenceWeight, r.patches, r.irregularVertices, kept);
   bool keptFound = false;
@@ -58,7 +58,7 @@ TEST(LayoutTrials, KeepTheLayoutThatFitsClosest) {
     const auto g = vcgext::SimplifyToQuads(t, scene, S, M, one);
     ASSERT_EQ(g.error, "");
     EXPECT_EQ(g.layoutTrialsRun, 0) << "one trial: the plain layout pass";
-    const double fitted = vcgext::simplify_internal::FittedReferenceRms(t, scene, g.quads);
+    const double fitted = vcgext::simplify_internal::TrialFittedRms(t, scene, g.quads);
     std::printf("  weight %g: %d patches, %d irregular, fitted RMS %.5f\n", w, g.patches, g.irregularVertices, fitted);
     if (vcgext::BudgetReached(g.patches, 100)) {
       EXPECT_GE(fitted, kept) << "weight " << w;
@@ -90,8 +90,8 @@ TEST(LayoutTrials, EachTrialGoesDownItsOwnLadder) {
   EXPECT_TRUE(vcgext::BudgetReached(two.patches, 12)) << two.patches;
   EXPECT_GT(two.budgetRelaxations, 0) << "a rung's cage";
   EXPECT_GT(two.budgetFromPatches, 12);
-  const double f1 = vcgext::simplify_internal::FittedReferenceRms(t, scene, one.quads);
-  const double f2 = vcgext::simplify_internal::FittedReferenceRms(t, scene, two.quads);
+  const double f1 = vcgext::simplify_internal::TrialFittedRms(t, scene, one.quads);
+  const double f2 = vcgext::simplify_internal::TrialFittedRms(t, scene, two.quads);
   std::printf("cigar, budget 12: one trial %d patches (rung %d) fitted %.5f; two trials %d patches (rung %d, weight %g) fitted %.5f\n",
               one.patches, one.budgetRelaxations, f1, two.patches, two.budgetRelaxations, two.trialValenceWeight, f2);
   EXPECT_LE(f2, f1);

@@ -134,13 +134,13 @@ double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData&
   return *std::min_element(f.dataRmsPerIteration.begin(), f.dataRmsPerIteration.end());
 }
 
-double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q) {
+double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments) {
   const FitResult f = FitCatmullClark(q, input, scene);
   if (!f.error.empty()) return std::numeric_limits<double>::infinity();
   const LimitSurface ls = LimitSurface::FromQuads(f.control);
   if (!ls.Ok() || ls.NumFaces() == 0) return std::numeric_limits<double>::infinity();
-  const int n = std::clamp(int(std::ceil(std::sqrt(2.0 * double(input.F.size()) / ls.NumFaces()))), 4,
-                           kMaxAutoMetricSegments);
+  const int n = std::clamp(int(std::ceil(std::sqrt(2.0 * double(input.F.size()) / ls.NumFaces()))), minSegments,
+                           std::max(minSegments, kMaxAutoMetricSegments));
   return ReferenceToSurfaceError(input, TessellateLimit(ls, f.control.V, n).mesh).first;
 }
 

@@ -4,9 +4,12 @@
 /// (QuadSimplifyParams::layoutTrials; docs/quad.md "Layout trials").
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 
+#include "vcg_ext/fit/bake.h"
 #include "vcg_ext/quad/simplify_internal.h"
 
 namespace vcgext {
@@ -32,6 +35,12 @@ bool TrialBeats(const QuadSimplifyResult& g, double gFit, const QuadSimplifyResu
 
 }  // namespace
 
+double TrialFittedRms(const TriData& input, const EmbreeScene& scene, const QuadData& quads) {
+  QuadData q = quads;
+  for (Vec3& v : q.V) v = Vec3(double(float(v[0])), double(float(v[1])), double(float(v[2])));
+  return FittedReferenceRms(input, scene, q, FitBakeParams().limitSegments);
+}
+
 QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads) {
@@ -50,22 +59,38 @@ QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, cons
     return g;
   };
   const auto fitted = [&](const QuadSimplifyResult& x) {
-    return BudgetReached(x.patches, target) ? FittedReferenceRms(input, scene, x.quads)
+    return BudgetReached(x.patches, target) ? TrialFittedRms(input, scene, x.quads)
                                             : std::numeric_limits<double>::infinity();
+  };
+  const double diag = BBoxDiagonal(input.V);
+  std::string summary;
+  auto note = [&](const QuadSimplifyResult& x, double fit) {
+    char buf[96];
+    if (!x.error.empty())
+      std::snprintf(buf, sizeof buf, "%s%g: failed", summary.empty() ? "" : "; ", x.trialValenceWeight);
+    else if (std::isfinite(fit))
+      std::snprintf(buf, sizeof buf, "%s%g: %d patches, %.3f", summary.empty() ? "" : "; ", x.trialValenceWeight,
+                    x.patches, 1000 * fit / diag);
+    else
+      std::snprintf(buf, sizeof buf, "%s%g: %d patches, -", summary.empty() ? "" : "; ", x.trialValenceWeight, x.patches);
+    summary += buf;
   };
   QuadSimplifyResult kept = trial(0);
   if (!kept.error.empty()) return kept;
   const int firstFlips = kept.flippedPatches + kept.flippedVertices;
   double keptFit = fitted(kept);
+  note(kept, keptFit);
   for (int i = 1; i < n; ++i) {
     QuadSimplifyResult g = trial(i);
-    if (!g.error.empty() || g.flippedPatches + g.flippedVertices > firstFlips) continue;
-    const double gFit = fitted(g);
-    if (!TrialBeats(g, gFit, kept, keptFit, target)) continue;
+    const bool usable = g.error.empty() && g.flippedPatches + g.flippedVertices <= firstFlips;
+    const double gFit = usable ? fitted(g) : std::numeric_limits<double>::infinity();
+    note(g, gFit);
+    if (!usable || !TrialBeats(g, gFit, kept, keptFit, target)) continue;
     kept = std::move(g);
     keptFit = gFit;
   }
   kept.layoutTrialsRun = n;
+  kept.layoutTrialsSummary = summary;
   const double all = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   kept.secondsLayoutTrials = std::max(0.0, all - kept.secondsTotal);
   kept.secondsTotal = all;

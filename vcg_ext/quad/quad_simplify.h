@@ -229,6 +229,9 @@ struct QuadSimplifyResult {
   /// the time of those not kept (in secondsTotal).
   double trialValenceWeight = -1;
   int layoutTrialsRun = 0;
+  /// per trial: its weight, patches and fitted RMS distance (per mille of the diagonal; "-" when it
+  /// missed the budget), e.g. "0: 1000 patches, 1.031; 0.25: 1000 patches, 1.002"
+  std::string layoutTrialsSummary;
   double secondsLayoutTrials = 0;
   int irregularVertices = 0;
   std::vector<int> valenceHistogram;  ///< index = valence

@@ -64,7 +64,9 @@ double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData&
 /// fails. FittedRms measures the fit's own data rows, which leave out input vertices farther than
 /// the fit's projection reach (10 % of the diagonal): a cage that misses a part of the input
 /// entirely can look close by it (oblong-shuffled.off: 2.0 per mille by FittedRms, 53 by this).
-double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
+/// `minSegments`: the tessellation per patch side at least (the report's metrics: the fit filter's
+/// limitSegments, 8; a coarser one adds its chords' error, which differs between cages).
+double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments = 4);
 
 /// The end of SimplifyToQuads (quad_simplify.cpp, docs/quad.md "A cage far off"): when cage `r`'s
 /// interpolating limit and its fitted one (FittedReferenceRms) stay farther than
@@ -111,6 +113,12 @@ inline QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int pat
 ///     tolerance elephant reached 200 patches with 10 % of its area unprojectable;
 ///  2. a start decimated to 4 N triangles (2 N quads), the guard as given, then doubled: on the
 ///     working start the guard keeps every finger of man's fist apart (1 788 patches for 400).
+/// How a layout trial's cage q is judged: FittedReferenceRms as the report measures it (the fit
+/// filter's limitSegments) on q's control points rounded to float, as the fit filter receives them
+/// from MeshLab's layer. The rounding matters: the fit amplifies it (triceratops.off @ 400, one
+/// cage: 1.081 per mille from double coordinates, 1.101 from float ones, 1.288 in the report).
+double TrialFittedRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
+
 /// A budget's layout: BudgetLadder once per weight of TrialValenceWeights(valenceWeight,
 /// layoutTrials); kept: the trial that reaches the budget (else comes closest) with the lowest
 /// FittedReferenceRms, among those with no more flipped patches and vertices than the first.
