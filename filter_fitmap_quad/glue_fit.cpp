@@ -142,8 +142,8 @@ bool MakeOutputDir(GlueContext& ctx, MeshModel& refModel, std::string& dir) {
 }
 
 // The displacement (and normal) textures, their layout and the control mesh as OBJ and PLY.
-bool WriteTexturesAndControl(GlueContext& ctx, const std::string& dir, bool normalMap, const vcgext::FitBakeResult& r) {
-  const std::string png = dir + "/displacement.png";
+bool WriteTexturesAndControl(GlueContext& ctx, const std::string& dir, const std::string& png, bool normalMap,
+                             const vcgext::FitBakeResult& r) {
   const std::string nrm = normalMap ? dir + "/normal.png" : "";
   for (std::string e : {vcgext::WritePngGray16(png, r.atlas.width, r.atlas.height, r.atlas.q16),
                         normalMap ? vcgext::WritePngRgb8(nrm, r.atlas.width, r.atlas.height, r.atlas.normalRGB)
@@ -237,7 +237,8 @@ bool ApplyFit(GlueContext& ctx) {
   if (!r.error.empty()) return ctx.Fail("Fit Catmull-Clark Surface: " + r.error);
 
   // Files first: a layer's texture must exist when MeshLab shows it.
-  if (!WriteTexturesAndControl(ctx, dir, p.normalMap, r)) return false;
+  const std::string png = dir + "/displacement.png";
+  if (!WriteTexturesAndControl(ctx, dir, png, p.normalMap, r)) return false;
   StageTimes earlier = GetStageTimes(control.cm);
   StageMemory earlierMemory = GetStageMemory(control.cm);
   const std::string err = vcgext::WriteReportJson(dir + "/report.json", r, earlier, earlierMemory);
@@ -245,7 +246,7 @@ bool ApplyFit(GlueContext& ctx) {
 
   // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
   const QString base = control.label();
-  MeshModel* fitted = AddFittedLayer(ctx, base, r, dir + "/displacement.png", earlier, earlierMemory);
+  MeshModel* fitted = AddFittedLayer(ctx, base, r, png, earlier, earlierMemory);
   AddSurfaceLayers(ctx, base, r);
   ctx.md.setCurrentMesh(fitted->id());
   ReportFit(ctx, r, p.normalMap, dir);

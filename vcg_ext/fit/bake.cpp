@@ -160,9 +160,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
     t = Clock::now();
     int Nm = p.metricSegments;
     if (Nm == 0)
-      Nm = std::max(p.limitSegments,
-                    std::min(kMaxAutoMetricSegments,
-                             int(std::ceil(std::sqrt(2.0 * double(ref.F.size()) / std::max(ls.NumFaces(), 1))))));
+      Nm = AutoMetricSegments(long(ref.F.size()), ls.NumFaces(), p.limitSegments);
     LimitTessellation dense = Nm == p.limitSegments ? r.limit : TessellateLimit(ls, ctrl, Nm);
     const EmbreeScene denseScene(dense.mesh);  // one scene for the limit error and projectability
     auto el = ReferenceToSurfaceError(ref, denseScene);

@@ -4,7 +4,9 @@
 /// scalar displacement atlas (one R×R tile per patch) and the displaced surface, an optional
 /// normal map, per-wedge UVs of the control quads, the quality metrics of Table 1, and the
 /// one-call pipeline FitAndBake (fit + bake + metrics + timings).
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -236,6 +238,15 @@ double UnprojectablePercent(const LimitTessellation& lim, const EmbreeScene& lim
 /// 0.881 and max 5.047 / 5.046 permille; 24 gives 0.882) but costs time and memory there
 /// (metrics 18.7 -> 12.8 s, peak 1356 -> 1090 MB on a loaded machine, 2026-12-02).
 constexpr int kMaxAutoMetricSegments = 32;
+
+/// The automatic metric tessellation per patch side: about one triangle per reference triangle,
+/// sqrt(2 refFaces / patches), between `minSegments` (FitBakeParams::limitSegments) and
+/// kMaxAutoMetricSegments (never below `minSegments`). The report's metrics (FitAndBake) and the
+/// simplification's fitted measures (FittedReferenceRms) use it, so they measure alike.
+inline int AutoMetricSegments(long refFaces, int patches, int minSegments) {
+  return std::max(minSegments, std::min(kMaxAutoMetricSegments,
+                                        int(std::ceil(std::sqrt(2.0 * double(refFaces) / std::max(patches, 1))))));
+}
 
 /// Parameters of FitAndBake.
 struct FitBakeParams {

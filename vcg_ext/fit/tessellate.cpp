@@ -118,11 +118,9 @@ class PatchTessellator {
       side_[e] = &ep;
       if (ep.base < 0) AddEdgePoints(f, e, ep);
       for (int m = 1; m < N; ++m) {
-        const EdgeFrac q{fwd_[e] ? m : N - m, N};
-        const auto it = std::lower_bound(ep.points.begin(), ep.points.end(), q);
         int i, j;
         SidePoint(e, m, N, &i, &j);
-        g_[j * (N + 1) + i] = ep.base + int(it - ep.points.begin());
+        g_[j * (N + 1) + i] = ep.base + SideIndex(e, m);
       }
     }
   }

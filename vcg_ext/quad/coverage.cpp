@@ -139,8 +139,7 @@ double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const 
   if (!f.error.empty()) return std::numeric_limits<double>::infinity();
   const LimitSurface ls = LimitSurface::FromQuads(f.control);
   if (!ls.Ok() || ls.NumFaces() == 0) return std::numeric_limits<double>::infinity();
-  const int n = std::clamp(int(std::ceil(std::sqrt(2.0 * double(input.F.size()) / ls.NumFaces()))), minSegments,
-                           std::max(minSegments, kMaxAutoMetricSegments));
+  const int n = AutoMetricSegments(long(input.F.size()), ls.NumFaces(), minSegments);
   return ReferenceToSurfaceError(input, TessellateLimit(ls, f.control.V, n).mesh).first;
 }
 

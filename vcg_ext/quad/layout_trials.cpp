@@ -1,7 +1,6 @@
 /// \file layout_trials.cpp
 /// Under a budget: the layout pass (and its ladder) with several valence weights, the cage that
-/// fits closest kept
-/// (QuadSimplifyParams::layoutTrials; docs/quad.md "Layout trials").
+/// fits closest kept (QuadSimplifyParams::layoutTrials; docs/quad.md "Layout trials").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -64,15 +63,16 @@ QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, cons
   };
   const double diag = BBoxDiagonal(input.V);
   std::string summary;
+  // one trial in the summary: "weight: patches, fitted RMS per mille" ("-": not measured)
   auto note = [&](const QuadSimplifyResult& x, double fit) {
     char buf[96];
+    const int len = std::snprintf(buf, sizeof buf, "%s%g: ", summary.empty() ? "" : "; ", x.trialValenceWeight);
     if (!x.error.empty())
-      std::snprintf(buf, sizeof buf, "%s%g: failed", summary.empty() ? "" : "; ", x.trialValenceWeight);
+      std::snprintf(buf + len, sizeof buf - len, "failed");
     else if (std::isfinite(fit))
-      std::snprintf(buf, sizeof buf, "%s%g: %d patches, %.3f", summary.empty() ? "" : "; ", x.trialValenceWeight,
-                    x.patches, 1000 * fit / diag);
+      std::snprintf(buf + len, sizeof buf - len, "%d patches, %.3f", x.patches, 1000 * fit / diag);
     else
-      std::snprintf(buf, sizeof buf, "%s%g: %d patches, -", summary.empty() ? "" : "; ", x.trialValenceWeight, x.patches);
+      std::snprintf(buf + len, sizeof buf - len, "%d patches, -", x.patches);
     summary += buf;
   };
   QuadSimplifyResult kept = trial(0);

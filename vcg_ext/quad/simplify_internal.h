@@ -104,15 +104,6 @@ inline QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int pat
   return lp;
 }
 
-/// A budget of N patches (QuadSimplifyParams::targetPatches, Equalized): the layout pass alone,
-/// then a ladder of retries while the thin-part guard (and the flip check) stop it above N + 2 %
-/// (docs/quad.md "Budget ladder"). Each retry is kept only when it comes closer to N (a collapse on
-/// a thin tube can cascade through the doublets it leaves and land far below it) and covers the
-/// input about as well as the first pass (RetryCoversAsWell):
-///  1. the guard's tolerance doubled (fandisk at 200 patches: 251 -> 200). Once only: at 4x the
-///     tolerance elephant reached 200 patches with 10 % of its area unprojectable;
-///  2. a start decimated to 4 N triangles (2 N quads), the guard as given, then doubled: on the
-///     working start the guard keeps every finger of man's fist apart (1 788 patches for 400).
 /// How a layout trial's cage q is judged: FittedReferenceRms as the report measures it (the fit
 /// filter's limitSegments) on q's control points rounded to float, as the fit filter receives them
 /// from MeshLab's layer. The rounding matters: the fit amplifies it (triceratops.off @ 400, one
@@ -121,13 +112,23 @@ double TrialFittedRms(const TriData& input, const EmbreeScene& scene, const Quad
 
 /// A budget's layout: BudgetLadder once per weight of TrialValenceWeights(valenceWeight,
 /// layoutTrials); kept: the trial that reaches the budget (else comes closest) with the lowest
-/// FittedReferenceRms, among those with no more flipped patches and vertices than the first.
+/// TrialFittedRms, among those with no more flipped patches and vertices than the first.
 /// One trial: BudgetLadder alone. The time of the trials not kept and of the fits that compared
 /// them is in secondsLayoutTrials (and secondsTotal).
 QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads);
 
+/// A budget of N patches (QuadSimplifyParams::targetPatches, Equalized): the layout pass alone,
+/// then a ladder of retries while the thin-part guard (and the flip check) stop it above N + 2 %
+/// (docs/quad.md "Budget ladder"). Each retry is kept only when it comes closer to N (a collapse on
+/// a thin tube can cascade through the doublets it leaves and land far below it) and covers the
+/// input about as well as the first pass (RetryCoversAsWell):
+///  1. the guard's tolerance doubled (fandisk at 200 patches: 251 -> 200). Once only: at 4x the
+///     tolerance elephant reached 200 patches with 10 % of its area unprojectable;
+///  2. a start decimated to 4 N triangles (2 N quads), the guard as given, then (3.) doubled: on
+///     the working start the guard keeps every finger of man's fist apart (1 788 patches for 400);
+///  4. a start decimated to 2.5 N triangles, the guard doubled (turbine at 400 patches: 507 -> 400).
 QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads);
