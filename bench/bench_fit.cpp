@@ -120,6 +120,7 @@ int main(int argc, char** argv) {
     else if (k == "Nm") p.metricSegments = int(v);
     else if (k == "danchor") p.displacementFit.anchorWeight = v;
     else if (k == "diters") p.displacementFit.iterations = int(v);
+    else if (k == "keep") p.fit.keepLowestDataRms = v != 0;
     else if (k == "method") p.fit.method = v == 0 ? FitMethod::PointToPoint : FitMethod::TangentDistance;
     else { std::fprintf(stderr, "unknown option %s\n", k.c_str()); return 2; }
   }
@@ -127,7 +128,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
                  "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [Nm=metric segments, 0 auto] [dfit=0|1 least-squares displacement] [adapt=0|1 tile size per patch] [danchor=anchor weight] [diters=rounds] "
-                 "[method=0 point-to-point | 1 tangent distance]\n",
+                 "[method=0 point-to-point | 1 tangent distance] [keep=1 lowest data RMS | 0 lowest objective]\n",
                  argv[0]);
     return 2;
   }
@@ -175,6 +176,8 @@ int main(int argc, char** argv) {
   if (!last.fit.dataRmsPerIteration.empty()) {
     std::printf("\n  reference->limit RMS per iteration:");
     for (double e : last.fit.dataRmsPerIteration) std::printf(" %.3g", e);
+    std::printf("\n  kept iterate %d (%s)", last.fit.keptIteration,
+                p.fit.keepLowestDataRms ? "lowest reference->limit RMS" : "lowest objective");
   }
   std::printf("\n  displaced, area-weighted: reference -> displaced RMS %.4f, displaced -> reference RMS %.4f max %.4f permille",
               m.rmsDisplacedAreaPermille, m.rmsDisplacedToRefPermille, m.maxDisplacedToRefPermille);

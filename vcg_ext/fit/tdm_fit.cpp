@@ -136,6 +136,9 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   const int sym[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
   Eigen::MatrixXd best = X;
   double bestObj = std::numeric_limits<double>::infinity();
+  // FitParams::keepLowestDataRms: the iterate the fit returns (docs/fit.md "Which iterate is kept").
+  Eigen::MatrixXd kept = X;
+  double keptDataRms = std::numeric_limits<double>::infinity();
   std::vector<Vec3> ctrl(nV);
 
   double dampingScale = 1;  // x10 after each solve that raised the objective
@@ -262,6 +265,11 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     res.rmsPerIteration.push_back(sRms);
     res.dataRmsPerIteration.push_back(dRms);
     res.objectivePerIteration.push_back(obj);
+    if (p.keepLowestDataRms && dRms < keptDataRms) {
+      keptDataRms = dRms;
+      kept = X;
+      res.keptIteration = int(res.dataRmsPerIteration.size()) - 1;
+    }
     if (reverted) {
       reverted = false;  // X is the best iterate again: solve from it with the larger damping
     } else if (!(obj < bestObj) && retries < p.dampingRetries && it < p.maxIterations) {
@@ -385,7 +393,11 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     if (!sol.allFinite()) break;
     for (int c = 0; c < 3; ++c) X.col(c) = sol.segment(c * nV, nV);
   }
-  X = best;
+  X = p.keepLowestDataRms ? kept : best;
+  if (!p.keepLowestDataRms) {  // the first projection whose objective is the kept one's
+    for (size_t i = 0; i < res.objectivePerIteration.size(); ++i)
+      if (res.objectivePerIteration[i] == bestObj) { res.keptIteration = int(i); break; }
+  }
   return "";
 }
 
