@@ -269,7 +269,7 @@ bool ApplyQuad(GlueContext& ctx) {
   double tau = 0;
   int workingFaces = 0;
   if (!QuadParams(ctx, p, tau, workingFaces)) return false;
-  if (p.layoutTrials > 1 && !(p.targetPatches > 0 && p.layout == vcgext::QuadSimplifyParams::Layout::Equalized))
+  if (p.layoutTrials > 1 && !vcgext::BudgetLayout(p))
     ctx.log("Warning: Fitmap Quad Simplification: layout trials need a target patch count (and the equalized "
             "layout): one layout");
 

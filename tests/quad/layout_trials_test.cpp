@@ -26,6 +26,17 @@ TEST(LayoutTrials, WeightsStartWithTheUsersOwn) {
   EXPECT_EQ(vcgext::TrialValenceWeights(0.3, 5), (std::vector<double>{0.3, 0, 0.25, 1, 0.05}));
 }
 
+// The rule that decides where the ladder and the trials run, and where the filter warns that the
+// trials are ignored: the equalized layout with a budget, nothing else.
+TEST(LayoutTrials, RunOnlyUnderABudgetsLayout) {
+  vcgext::QuadSimplifyParams p;
+  EXPECT_FALSE(vcgext::BudgetLayout(p)) << "no budget";
+  p.targetPatches = 400;
+  EXPECT_TRUE(vcgext::BudgetLayout(p));
+  p.layout = vcgext::QuadSimplifyParams::Layout::PaperHalting;
+  EXPECT_FALSE(vcgext::BudgetLayout(p)) << "the paper's halting ignores the budget's layout";
+}
+
 // An ellipsoid (5 120 triangles, S from curvature) with a budget of 100 patches and 4 trials: the
 // kept cage is, bit for bit, the single layout with the kept weight; brute force over the four
 // single layouts, none that reaches the budget fits closer (TrialFittedRms, the selection's

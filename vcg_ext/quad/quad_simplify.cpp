@@ -121,7 +121,7 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
   if (!res.error.empty()) return res;
   Progress prog(cb);
   const bool equalized = params.layout == QuadSimplifyParams::Layout::Equalized;
-  if (equalized && params.targetPatches > 0)  // a budget: the layout pass alone (M would halt above it)
+  if (BudgetLayout(params))  // a budget: the layout pass alone (M would halt above it)
     return LayoutTrials(input, start, scene, S, M, params, prog, initialQuads);
   if (!equalized || !params.useMFitmap) return SimplifyOnce(input, start, scene, S, M, params, prog, initialQuads);
   res = EqualizedLayout(input, start, scene, S, M, params, prog, initialQuads);

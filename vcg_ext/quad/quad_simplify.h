@@ -256,6 +256,13 @@ struct QuadSimplifyResult {
 /// budget ladder, the start refinement under a budget and the filter's warning all judge by it.
 inline bool BudgetReached(int patches, int target) { return patches <= target + target / 50; }
 
+/// Whether `p` asks for a budget's layout: the equalized layout with targetPatches > 0. Only
+/// there do the budget ladder and the layout trials run (SimplifyToQuads' dispatch); the filter
+/// warns by the same rule when layout trials are asked for without it.
+inline bool BudgetLayout(const QuadSimplifyParams& p) {
+  return p.layout == QuadSimplifyParams::Layout::Equalized && p.targetPatches > 0;
+}
+
 /// Layout trials (QuadSimplifyParams::layoutTrials, docs/quad.md "Layout trials"): the valence
 /// weights tried after the user's own, in this order.
 inline constexpr double kTrialValenceWeights[] = {0, 0.25, 1, 0.05};
