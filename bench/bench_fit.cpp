@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -97,6 +98,7 @@ int main(int argc, char** argv) {
   // Positional arguments, then optional key=value overrides of FitBakeParams (see usage).
   std::vector<std::string> pos;
   FitBakeParams p;
+  int shuffleSeed = 0;  // > 0: the control mesh's faces permuted and each quad's corners rotated
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto eq = a.find('=');
@@ -121,6 +123,7 @@ int main(int argc, char** argv) {
     else if (k == "danchor") p.displacementFit.anchorWeight = v;
     else if (k == "diters") p.displacementFit.iterations = int(v);
     else if (k == "keep") p.fit.keepLowestDataRms = v != 0;
+    else if (k == "shuffle") shuffleSeed = int(v);
     else if (k == "method") p.fit.method = v == 0 ? FitMethod::PointToPoint : FitMethod::TangentDistance;
     else { std::fprintf(stderr, "unknown option %s\n", k.c_str()); return 2; }
   }
@@ -128,7 +131,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: %s REFERENCE CONTROL [runs=3] [outdir] [R=tile] [iters=n] [vw=vertex weight] [damp=w] "
                  "[spv=samples per vertex] [minimp=fraction] [tw=tangent weight] [dw=data weight] [sw=sample weight] [smooth=control-net Laplacian weight] [fps=foot-point segments] [N=limit segments] [Nm=metric segments, 0 auto] [dfit=0|1 least-squares displacement] [adapt=0|1 tile size per patch] [danchor=anchor weight] [diters=rounds] "
-                 "[method=0 point-to-point | 1 tangent distance] [keep=1 lowest data RMS | 0 lowest objective]\n",
+                 "[method=0 point-to-point | 1 tangent distance] [keep=1 lowest data RMS | 0 lowest objective] [shuffle=seed: permute the control faces and rotate their corners, the same surface]\n",
                  argv[0]);
     return 2;
   }
@@ -144,6 +147,11 @@ int main(int argc, char** argv) {
     TriData coarse;
     if (!LoadTri(ctrlPath, coarse)) return 1;
     ctrl = SplitTrianglesToQuads(coarse);
+  }
+  if (shuffleSeed > 0) {  // the same surface, another order: how much the fit depends on it
+    std::mt19937 rng{static_cast<unsigned>(shuffleSeed)};
+    std::shuffle(ctrl.F.begin(), ctrl.F.end(), rng);
+    for (Quad& f : ctrl.F) std::rotate(f.begin(), f.begin() + rng() % 4, f.end());
   }
   std::printf("reference %s: %zu vertices, %zu triangles; control: %zu vertices, %zu quads; 2 cores\n",
               refPath.c_str(), ref.V.size(), ref.F.size(), ctrl.V.size(), ctrl.F.size());

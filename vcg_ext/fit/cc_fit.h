@@ -79,8 +79,9 @@ struct FitParams {
   /// mixed). Near convergence the two row sets pull against each other and the iterates alternate
   /// between a low-sample-RMS and a low-data-RMS phase; which one has the lower objective flips
   /// with rounding, and the reported error flipped with it by up to 15 % (triceratops @400:
-  /// 1.288 vs 1.101 permille from the same cage). Stopping and damping still follow the
-  /// objective: no extra iterations. docs/fit.md "Which iterate is kept".
+  /// 1.288 vs 1.101 permille from the same cage). Damping follows the objective; the fit also
+  /// goes on (up to maxIterations) while the objective still improves and the data RMS improves
+  /// by minImprovement or more. docs/fit.md "Which iterate is kept".
   bool keepLowestDataRms = true;
 };
 

@@ -139,6 +139,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   // FitParams::keepLowestDataRms: the iterate the fit returns (docs/fit.md "Which iterate is kept").
   Eigen::MatrixXd kept = X;
   double keptDataRms = std::numeric_limits<double>::infinity();
+  double lastDataRms = std::numeric_limits<double>::infinity();  // the previous accepted projection's
   std::vector<Vec3> ctrl(nV);
 
   double dampingScale = 1;  // x10 after each solve that raised the objective
@@ -281,8 +282,18 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
       ++res.dampingRetries;
       reverted = true;
       continue;
-    } else if (StopIterating(obj, bestObj, X, best, p, it)) {
-      break;
+    } else {
+      const double before = bestObj;
+      bool stop = StopIterating(obj, bestObj, X, best, p, it);
+      // keepLowestDataRms: the returned iterate is the data RMS's, so the objective's small
+      // improvement alone does not end the fit while the data RMS still improves by minImprovement
+      // (bunny00 @1000: the objective improved by < 1 % with the data RMS 3 % lower, one more
+      // solve took the report from 0.353 to 0.344 per mille; docs/fit.md "Which iterate is kept")
+      if (stop && p.keepLowestDataRms && obj < before && it < p.maxIterations &&
+          dRms < (1 - p.minImprovement) * lastDataRms)
+        stop = false;
+      lastDataRms = dRms;
+      if (stop) break;
     }
     prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
 
