@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 #include <random>
@@ -433,19 +434,27 @@ TEST(CCFit, BakeSkipsWronglyOrientedSheets) {
   for (const auto& v : d.mesh.V) EXPECT_NEAR(v[2], h, 1e-6);
 }
 
+// Fits `q` to `ref` twice (4-texel tiles), the fit's parameters changed by `first`, then by
+// `second` (on top of the defaults each time).
+static void FitTwice(const TriData& ref, const QuadData& q, const std::function<void(FitParams&)>& first,
+              const std::function<void(FitParams&)>& second, FitBakeResult& a, FitBakeResult& b) {
+  EmbreeScene scene(ref);
+  FitBakeParams p;
+  p.textureResolution = 4;
+  first(p.fit);
+  a = FitAndBake(q, ref, scene, p);
+  p.fit = FitParams();
+  second(p.fit);
+  b = FitAndBake(q, ref, scene, p);
+}
+
 // The default (tangent-distance) fit reaches the reference where the paper's point-to-point
 // iterations stall: a coarse control net fitted to a bumpy sphere ends closer (reference vertex →
 // limit RMS) than the literal §3.5 fit with the same samples and iteration budget.
 TEST(CCFit, TangentDistanceBeatsPointToPoint) {
-  TriData ref = BumpySphere(5, 0.05);
-  QuadData q = CubeSphere(3, 0.0, 1);
-  EmbreeScene scene(ref);
-  FitBakeParams p;
-  p.textureResolution = 4;
-  p.fit.method = FitMethod::PointToPoint;
-  FitBakeResult a = FitAndBake(q, ref, scene, p);
-  p.fit.method = FitMethod::TangentDistance;
-  FitBakeResult b = FitAndBake(q, ref, scene, p);
+  FitBakeResult a, b;
+  FitTwice(BumpySphere(5, 0.05), CubeSphere(3, 0.0, 1), [](FitParams& f) { f.method = FitMethod::PointToPoint; },
+           [](FitParams& f) { f.method = FitMethod::TangentDistance; }, a, b);
   ASSERT_TRUE(a.error.empty()) << a.error;
   ASSERT_TRUE(b.error.empty()) << b.error;
   EXPECT_LT(b.metrics.rmsLimitPermille, 0.9 * a.metrics.rmsLimitPermille);
@@ -459,16 +468,12 @@ TEST(CCFit, TangentDistanceBeatsPointToPoint) {
 // first undamped solve overshoot; stopping there kept the unfitted cage. With retries the fit
 // goes back to its best iterate with 10x the damping and keeps improving.
 TEST(CCFit, DampingRetriesRecoverFromAnOvershootingSolve) {
-  TriData ref = BumpySphere(3, 0.05);  // 642 vertices
-  QuadData q = CubeSphere(14, 0.04, 3);  // 1176 patches, noisy
-  EmbreeScene scene(ref);
-  FitBakeParams p;
-  p.textureResolution = 4;
-  p.fit.keepLowestDataRms = false;  // the objective's choice: this test is about the damping alone
-  p.fit.dampingRetries = 0;
-  FitBakeResult a = FitAndBake(q, ref, scene, p);
-  p.fit.dampingRetries = 3;
-  FitBakeResult b = FitAndBake(q, ref, scene, p);
+  // 642 reference vertices, 1176 noisy patches; the objective's choice of iterate: this test is
+  // about the damping alone
+  FitBakeResult a, b;
+  FitTwice(BumpySphere(3, 0.05), CubeSphere(14, 0.04, 3),
+           [](FitParams& f) { f.keepLowestDataRms = false; f.dampingRetries = 0; },
+           [](FitParams& f) { f.keepLowestDataRms = false; f.dampingRetries = 3; }, a, b);
   ASSERT_TRUE(a.error.empty()) << a.error;
   ASSERT_TRUE(b.error.empty()) << b.error;
   std::printf("no retries: %d solves, RMS %.4f per mille; retries %d: %d solves, RMS %.4f\n", a.fit.iterations,
@@ -488,15 +493,10 @@ TEST(CCFit, DampingRetriesRecoverFromAnOvershootingSolve) {
 // independent measure (reference vertices against the tessellated limit, bake metrics) agrees
 // with that figure and is not above the objective's choice on the same cage.
 TEST(CCFit, KeepsTheIterateWithTheLowestDataRms) {
-  TriData ref = BumpySphere(3, 0.05);
-  QuadData q = CubeSphere(14, 0.04, 3);
-  EmbreeScene scene(ref);
-  FitBakeParams p;
-  p.textureResolution = 4;
-  p.fit.keepLowestDataRms = false;
-  FitBakeResult a = FitAndBake(q, ref, scene, p);
-  p.fit.keepLowestDataRms = true;
-  FitBakeResult b = FitAndBake(q, ref, scene, p);
+  const TriData ref = BumpySphere(3, 0.05);
+  FitBakeResult a, b;
+  FitTwice(ref, CubeSphere(14, 0.04, 3), [](FitParams& f) { f.keepLowestDataRms = false; },
+           [](FitParams& f) { f.keepLowestDataRms = true; }, a, b);
   ASSERT_TRUE(a.error.empty()) << a.error;
   ASSERT_TRUE(b.error.empty()) << b.error;
   const auto& d = b.fit.dataRmsPerIteration;
