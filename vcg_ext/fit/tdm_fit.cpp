@@ -140,6 +140,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   Eigen::MatrixXd kept = X;
   double keptDataRms = std::numeric_limits<double>::infinity();
   double lastDataRms = std::numeric_limits<double>::infinity();  // the previous accepted projection's
+  int bestIteration = -1;  // the projection of `best` (the objective's choice)
   std::vector<Vec3> ctrl(nV);
 
   double dampingScale = 1;  // x10 after each solve that raised the objective
@@ -285,6 +286,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     } else {
       const double before = bestObj;
       bool stop = StopIterating(obj, bestObj, X, best, p, it);
+      if (bestObj < before) bestIteration = int(res.objectivePerIteration.size()) - 1;
       // keepLowestDataRms: the returned iterate is the data RMS's, so the objective's small
       // improvement alone does not end the fit while the data RMS still improves by minImprovement
       // (bunny00 @1000: the objective improved by < 1 % with the data RMS 3 % lower, one more
@@ -405,10 +407,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     for (int c = 0; c < 3; ++c) X.col(c) = sol.segment(c * nV, nV);
   }
   X = p.keepLowestDataRms ? kept : best;
-  if (!p.keepLowestDataRms) {  // the first projection whose objective is the kept one's
-    for (size_t i = 0; i < res.objectivePerIteration.size(); ++i)
-      if (res.objectivePerIteration[i] == bestObj) { res.keptIteration = int(i); break; }
-  }
+  if (!p.keepLowestDataRms) res.keptIteration = bestIteration;
   return "";
 }
 
