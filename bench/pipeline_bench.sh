@@ -12,7 +12,8 @@
 # includes the trials and any budget retries). Prints rows like the paper's Tables 1 and 2:
 # patches, irregular vertices, unprojectable %, RMS limit / displaced error (1/1000 of the
 # bbox diagonal), per-stage wall time, peak memory. Uses the installed plugin (run
-# scripts/setup.sh first, or any of the two README commands).
+# scripts/setup.sh first, or any of the two README commands). FITMAP_BENCH_KEEP=1 keeps the
+# runs' outputs (each report.json, full precision) and says where.
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 RUNS=3
@@ -24,14 +25,15 @@ while [ $# -gt 0 ]; do
     --runs) RUNS="$2"; shift 2 ;;
     --patches) PATCHLIST="$2"; shift 2 ;;
     --trials) TRIALS="$2"; shift 2 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) meshes+=("$1"); shift ;;
   esac
 done
 DATA="$REPO/.deps/data/meshes"
 [ ${#meshes[@]} -gt 0 ] || meshes=("$DATA/bunny00.off" "$DATA/elephant.off" "$DATA/fandisk.off")
 work=$(mktemp -d /tmp/fitmap_bench.XXXXXX)
-trap 'rm -rf "$work"' EXIT
+# FITMAP_BENCH_KEEP=1 keeps the runs' outputs (report.json with every figure to full precision)
+if [ "${FITMAP_BENCH_KEEP:-0}" = 1 ]; then echo "outputs kept in $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
 results="$work/results.tsv"
 : > "$results"
 
