@@ -32,7 +32,6 @@ done
 DATA="$REPO/.deps/data/meshes"
 [ ${#meshes[@]} -gt 0 ] || meshes=("$DATA/bunny00.off" "$DATA/elephant.off" "$DATA/fandisk.off")
 work=$(mktemp -d /tmp/fitmap_bench.XXXXXX)
-# FITMAP_BENCH_KEEP=1 keeps the runs' outputs (report.json with every figure to full precision)
 if [ "${FITMAP_BENCH_KEEP:-0}" = 1 ]; then echo "outputs kept in $work" >&2; else trap 'rm -rf "$work"' EXIT; fi
 results="$work/results.tsv"
 : > "$results"
