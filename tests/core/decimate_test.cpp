@@ -82,6 +82,77 @@ TEST(WorkingResolution, OpenGridKeepsItsBoundary) {
 }
 
 namespace {
+// A 64 x 64 grid of the unit square (8 192 triangles), flat for x < 0.5 and curved beyond, with
+// `n` (<= 5) zero-area faces in the flat half: in face (a, c, b) of cell (i, j), with c = (i+1, j)
+// and b = (i+1, j+1), c is moved to the middle of the diagonal a b (exactly: coordinates in 1/128)
+// or, with `coincident`, onto a. Neither folds a neighbouring face.
+TriData GridWithZeroAreaFaces(int n, bool coincident) {
+  TriData g = testsupport::HeightField(64, 64, 1.0, [](double x, double) { return x < 0.5 ? 0.0 : 0.4 * (x - 0.5) * (x - 0.5); });
+  const int cells[5][2] = {{5, 5}, {10, 20}, {20, 40}, {15, 50}, {25, 10}};
+  for (int k = 0; k < n; ++k) {
+    const int i = cells[k][0], j = cells[k][1];
+    const int a = j * 65 + i, c = j * 65 + i + 1;
+    g.V[c] = coincident ? g.V[a] : vcgext::Vec3((i + 0.5) / 64, (j + 0.5) / 64, 0.0);
+  }
+  return g;
+}
+int ZeroArea(const TriData& t) {
+  int z = 0;
+  for (const auto& f : t.F) z += !((t.V[f[1]] - t.V[f[0]]).cross(t.V[f[2]] - t.V[f[0]]).norm() > 0);
+  return z;
+}
+}  // namespace
+
+// A dense scan with a few collinear slivers (float rounding) is still decimated: the slivers are
+// flipped away on the copy first (before 2026-12-04 the whole input was used at full resolution).
+TEST(WorkingResolution, ZeroAreaFacesAreFlippedAwayBeforeTheDecimation) {
+  const TriData g = GridWithZeroAreaFaces(5, false);
+  ASSERT_EQ(ZeroArea(g), 5);
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 2000;
+  auto r = vcgext::WorkingResolution(g, p);
+  ASSERT_TRUE(r.decimated);
+  EXPECT_FALSE(r.skippedDegenerate);
+  EXPECT_GE(r.zeroAreaFlips, 5);
+  EXPECT_LE(r.zeroAreaFlips, 10);  // the threshold leaves the grid's other faces alone
+  EXPECT_LE(int(r.mesh.F.size()), 2000);
+  EXPECT_GE(int(r.mesh.F.size()), 1900);
+  EXPECT_EQ(ZeroArea(r.mesh), 0);
+  EXPECT_EQ(Euler(r.mesh), 1);
+  EXPECT_EQ(BorderEdgesOnTheSquare(r.mesh), 256);
+  for (const auto& v : r.mesh.V) {  // on the height field (optimal placement on a flat / parabolic part)
+    ASSERT_TRUE(v.allFinite());
+    EXPECT_NEAR(v[2], v[0] < 0.5 ? 0.0 : 0.4 * (v[0] - 0.5) * (v[0] - 0.5), 2e-3);
+  }
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(r.mesh);  // manifold and oriented
+  EXPECT_EQ(w.error, "");
+  // the start mesh says what was done
+  vcgext::StartMeshParams sp{2000, 2000, 0, 0};
+  const vcgext::StartMesh s = vcgext::ChooseStartMesh(g, sp);
+  EXPECT_TRUE(s.warnings.empty());
+  bool said = false;
+  for (const auto& n : s.notes) said = said || n.find("edge flips removed them") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+// Coincident corners cannot be flipped away: the input is used at full resolution, and said so.
+TEST(WorkingResolution, CoincidentCornersKeepTheFullResolution) {
+  const TriData g = GridWithZeroAreaFaces(3, true);
+  ASSERT_GE(ZeroArea(g), 3);
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 2000;
+  auto r = vcgext::WorkingResolution(g, p);
+  EXPECT_FALSE(r.decimated);
+  EXPECT_TRUE(r.skippedDegenerate);
+  EXPECT_EQ(r.mesh.F, g.F);
+  EXPECT_EQ(r.mesh.V, g.V);
+  vcgext::StartMeshParams sp{2000, 2000, 0, 0};
+  const vcgext::StartMesh s = vcgext::ChooseStartMesh(g, sp);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("full input"), std::string::npos);
+}
+
+namespace {
 // A torus (R = 1, r = 0.3) as an n x m grid wrapped both ways: genus 1, 2nm triangles.
 TriData Torus(int n, int m) {
   TriData t;

@@ -172,6 +172,31 @@ DecimateResult Remesh(const TriData& m, int faces) {
   r.mesh = FromDMesh(d);
   return r;
 }
+
+// Faces whose corners are collinear or coincident (zero cross product) or not finite.
+int ZeroAreaFaces(const TriData& m) {
+  int n = 0;
+  for (const auto& f : m.F) {
+    const Vec3 c = (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]);
+    n += !(c.norm() > 0) || !c.allFinite();
+  }
+  return n;
+}
+
+// `m` with its zero-area faces flipped away: a face whose corner lies on the opposite edge is
+// flipped with its neighbour across that edge (vcglib's RemoveTVertexByFlip, MeshLab's "Remove
+// T-Vertices by Edge Flip"; a flip is taken only where it raises the worse of the two triangles'
+// quality, so the loop ends, and the link condition keeps the mesh manifold and oriented). The
+// threshold 1e6 (height below a millionth of the longest side) leaves every other face alone.
+// False when a zero-area face is left: coincident corners, or no flip that helps (a boundary edge).
+bool FlipZeroAreaFaces(const TriData& m, TriData& out, int& flips) {
+  DMesh d;
+  ToDMesh(m, d);
+  vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
+  flips = vcg::tri::Clean<DMesh>::RemoveTVertexByFlip(d, 1e6f, true);
+  out = FromDMesh(d);
+  return ZeroAreaFaces(out) == 0;
+}
 }  // namespace
 
 DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
@@ -190,16 +215,6 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
     r.mesh = m;
     return r;
   }
-  // vcglib's quadrics are NaN on zero-area faces (its collapse asserts on them; the fuzzer found
-  // it): such a mesh is used at full resolution
-  for (const auto& f : m.F) {
-    const Vec3 n = (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]);
-    if (!(n.norm() > 0) || !n.allFinite()) {
-      r.mesh = m;
-      r.skippedDegenerate = true;
-      return r;
-    }
-  }
   const auto t0 = std::chrono::steady_clock::now();
   const std::uint64_t key = Fingerprint(m, p);
   RecentDecimations& memo = Memo();
@@ -213,7 +228,22 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
         return r;
       }
   }
-  r = Decimate(m, p, cb);
+  // vcglib's quadrics are NaN on zero-area faces (its collapse asserts on them; the fuzzer found
+  // it). Before 2026-12-04 such a mesh was used at full resolution: one collinear sliver among a
+  // dense scan's millions of triangles made every later stage run on all of them (triceratops.off
+  // refined to 362k triangles has 22 after MeshLab's float rounding: its budget run took 108 s).
+  // Now they are flipped away on the copy; only a face with coincident corners stops it.
+  TriData repaired;
+  int flips = 0;
+  const bool degenerate = ZeroAreaFaces(m) > 0;
+  if (degenerate && !FlipZeroAreaFaces(m, repaired, flips)) {
+    r.mesh = m;
+    r.skippedDegenerate = true;
+    return r;
+  }
+  r = Decimate(degenerate ? repaired : m, p, cb);
+  r.zeroAreaFlips = flips;
+  if (degenerate) r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::lock_guard<std::mutex> g(memo.lock);
   memo.slot[2] = std::move(memo.slot[1]);
   memo.slot[1] = std::move(memo.slot[0]);
@@ -370,8 +400,12 @@ StartMesh ChooseStartMesh(const TriData& input, const StartMeshParams& p, vcg::C
   work.seconds += base.seconds;
   work.decimated = work.decimated || base.decimated;
   if (base.skippedDegenerate || work.skippedDegenerate)
-    s.warnings.push_back("the input has zero-area triangles, which the decimation cannot handle: simplifying from "
-                         "the full input (slower; Filters > Cleaning and Repairing > Remove Zero Area Faces avoids it)");
+    s.warnings.push_back("the input has zero-area triangles that edge flips cannot remove (coincident corners), which the "
+                         "decimation cannot handle: simplifying from the full input (slower; Filters > Cleaning and Repairing > "
+                         "Remove Zero Area Faces avoids it)");
+  if (const int flips = std::max(base.zeroAreaFlips, work.zeroAreaFlips); flips > 0)
+    s.notes.push_back("the input has zero-area triangles: " + std::to_string(flips) +
+                      " edge flips removed them from the copy that is decimated (the input is unchanged)");
   if (work.remeshedValence > 0)
     s.notes.push_back("the input has a vertex of valence " + std::to_string(work.remeshedValence) +
                       ": the control mesh starts from an isotropic remesh of it (" + std::to_string(work.mesh.F.size()) +

@@ -41,13 +41,19 @@ struct DecimateResult {
   int refinements = 0;  ///< midpoint refinements applied to a small input (minFaces)
   int remeshedValence = 0;  ///< the highest valence that made the input be remeshed (maxValence), else 0
   bool reused = false;             ///< the same request as the previous one in this process: its result, not recomputed
-  bool skippedDegenerate = false;  ///< not decimated: zero-area faces (vcglib's quadrics would be NaN)
+  bool skippedDegenerate = false;  ///< not decimated: zero-area faces that edge flips could not remove
+  /// Edge flips that removed zero-area faces from the copy before its decimation (vcglib's quadrics
+  /// are NaN on them): a corner on the opposite edge, as float rounding leaves in thin triangles
+  /// of scans and of midpoint-refined meshes. 0 when the input had none.
+  int zeroAreaFlips = 0;
   bool split = false;              ///< decimated in two halves on two threads (splitMinFaces)
   double seconds = 0;
 };
 
 /// M' of `m` by the rule above (decimated above maxFaces, refined below minFaces, remeshed above
-/// maxValence). Preconditions: manifold, oriented (a WorkingCopy). The result
+/// maxValence). Zero-area faces in an input to decimate are first flipped away on the copy
+/// (vcglib's RemoveTVertexByFlip); where a zero-area face is left (coincident corners) the input
+/// is used at full resolution (`skippedDegenerate`). Preconditions: manifold, oriented (a WorkingCopy). The result
 /// keeps the genus, components and boundary loops (vcglib's PreserveTopology / boundary
 /// options); it may stop above the target where no valid collapse is left. Cost O(F log F).
 /// The three latest results are kept (small meshes) and returned again for the same mesh and
