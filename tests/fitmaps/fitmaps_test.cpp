@@ -584,3 +584,26 @@ TEST(Fitmaps, WorkingResolutionAgreesWithTheFullComputation) {
   EXPECT_LT(rel[rel.size() / 2], 0.05);
   EXPECT_GT(mRho, 0.85);
 }
+
+TEST(Fitmaps, ZeroAreaSliversAreFlippedOnTheWorkingResolutionAndSaid) {
+  // A 64 x 64 height field (8 192 triangles) with 4 exactly collinear slivers in its flat half
+  // (a corner moved to the middle of the opposite diagonal; coordinates in 1/128, so exact in
+  // float too): "Compute Fitmaps" with a working resolution of 2 000 triangles decimates it
+  // (before 2026-12-04 any zero-area face kept the full resolution) and its log says so.
+  TriData g = testsupport::HeightField(64, 64, 1.0, [](double x, double) { return x < 0.5 ? 0.0 : 0.4 * (x - 0.5) * (x - 0.5); });
+  for (const auto& [i, j] : std::vector<std::pair<int, int>>{{5, 5}, {10, 20}, {20, 40}, {15, 50}})
+    g.V[j * 65 + i + 1] = vcgext::Vec3((i + 0.5) / 64, (j + 0.5) / 64, 0.0);
+  vcgext::TMesh m;
+  testsupport::ToVcg(g, m);
+  FitmapParams p;
+  p.workingFaces = 2000;
+  FitmapResult r = vcgext::ComputeFitmaps(m, p);
+  ASSERT_EQ(r.error, "");
+  EXPECT_LE(r.workingFaces, 2000);
+  EXPECT_GE(r.workingFaces, 1900);
+  bool said = false;
+  for (const auto& n : r.notes) said = said || n.find("edge flips removed zero-area triangles") != std::string::npos;
+  EXPECT_TRUE(said);
+  EXPECT_TRUE(r.warnings.empty());
+  for (size_t i = 0; i < r.S.size(); ++i) ASSERT_TRUE(std::isfinite(r.S[i]) && std::isfinite(r.M[i]) && r.M[i] > 0) << i;
+}

@@ -597,6 +597,14 @@ FitmapResult FitmapsFromWorkingResolution(const TriData& input, const FitmapPara
   res.levels = c.levels;
   res.workingFaces = int(d.mesh.F.size());
   res.secondsDecimate = d.seconds;
+  if (d.zeroAreaFlips > 0)
+    res.notes.push_back(std::to_string(d.zeroAreaFlips) +
+                        " edge flips removed zero-area triangles from the decimated copy (the layer is unchanged)");
+  if (d.skippedDegenerate)
+    res.warnings.push_back("zero-area triangles with coincident corners: computed on all " +
+                           std::to_string(input.F.size()) +
+                           " triangles instead of a decimated copy (slower; Filters > Cleaning and Repairing > "
+                           "Remove Zero Area Faces avoids it)");
   res.secondsTransfer = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

@@ -120,7 +120,8 @@ struct FitmapResult {
   double secondsLevels = 0, secondsCoarse = 0;  ///< Fast mode: wall time at the end of these stages
   int workingFaces = 0;        ///< triangles the Fitmaps were computed on (0: the mesh itself)
   double secondsDecimate = 0, secondsTransfer = 0;  ///< with Params::workingFaces
-  /// vcg entry point: repairs made on the working copy, and warnings (see input_prep.h)
+  /// repairs made on the working copy (vcg entry point; see input_prep.h) and on the working
+  /// resolution (zero-area faces flipped), and warnings
   std::vector<std::string> notes, warnings;
 };
 
@@ -156,8 +157,9 @@ FitmapResult ComputeFitmaps(MeshType& m, const FitmapParams& p, vcg::CallBackPos
   if (!scene.Ok()) { res.error = scene.Error(); return res; }
   res = ComputeFitmaps(w.mesh, scene, p, cb);
   if (!res.error.empty()) return res;
-  res.notes = w.notes;
-  res.warnings = w.warnings;
+  // the working copy's repairs first, then what the computation itself reports
+  res.notes.insert(res.notes.begin(), w.notes.begin(), w.notes.end());
+  res.warnings.insert(res.warnings.begin(), w.warnings.begin(), w.warnings.end());
   const std::vector<double> S = ToLiveVertices(w, res.S, 0.0), M = ToLiveVertices(w, res.M, 0.0);
   auto hS = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(m, kFitmapSAttr);
   auto hM = vcg::tri::Allocator<MeshType>::template GetPerVertexAttribute<float>(m, kFitmapMAttr);
