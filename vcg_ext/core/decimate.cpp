@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/local_optimization.h>
@@ -190,6 +191,21 @@ int ZeroAreaFaces(const TriData& m) {
 // threshold 1e6 (height below a millionth of the longest side) leaves every other face alone.
 // False when a zero-area face is left: coincident corners, or no flip that helps (a boundary edge).
 bool FlipZeroAreaFaces(const TriData& m, TriData& out, int& flips) {
+  // Coincident corners (a repeated index, or two at one place) no flip removes; a repeated index
+  // would also trip vcglib's face-face topology (an assertion; the fuzzer's raw regression).
+  for (const auto& f : m.F) {
+    const double shortest = std::min({(m.V[f[1]] - m.V[f[0]]).norm(), (m.V[f[2]] - m.V[f[1]]).norm(),
+                                      (m.V[f[0]] - m.V[f[2]]).norm()});
+    if (!(shortest > 0)) return false;
+  }
+  // vcglib's flip asserts an edge-manifold, consistently oriented mesh (WorkingResolution's
+  // precondition, which the fuzzer's raw target breaks on purpose): each directed edge once.
+  std::unordered_set<std::uint64_t> directed;
+  directed.reserve(3 * m.F.size());
+  for (const auto& f : m.F)
+    for (int k = 0; k < 3; ++k)
+      if (!directed.insert(std::uint64_t(std::uint32_t(f[k])) << 32 | std::uint32_t(f[(k + 1) % 3])).second)
+        return false;
   DMesh d;
   ToDMesh(m, d);
   vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
