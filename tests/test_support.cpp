@@ -42,6 +42,17 @@ vcgext::TriData PlaneGrid(int nx, int ny, double size) {
   return m;
 }
 
+vcgext::TriData GridWithZeroAreaFaces(int n, bool coincident) {
+  vcgext::TriData g = HeightField(64, 64, 1.0, [](double x, double) { return x < 0.5 ? 0.0 : 0.4 * (x - 0.5) * (x - 0.5); });
+  const int cells[5][2] = {{5, 5}, {10, 20}, {20, 40}, {15, 50}, {25, 10}};
+  for (int k = 0; k < n; ++k) {
+    const int i = cells[k][0], j = cells[k][1];
+    const int a = j * 65 + i, c = j * 65 + i + 1;
+    g.V[c] = coincident ? g.V[a] : vcgext::Vec3((i + 0.5) / 64, (j + 0.5) / 64, 0.0);
+  }
+  return g;
+}
+
 vcgext::TriData Icosphere(int level, double r) {
   vcgext::TriData m;
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;

@@ -20,6 +20,12 @@ vcgext::TriData HeightField(int nx, int ny, double size, F f) {
   for (auto& p : m.V) p[2] = f(p[0], p[1]);
   return m;
 }
+/// A 64 x 64 grid of the unit square (8 192 triangles), flat for x < 0.5 and z = 0.4 (x - 0.5)^2
+/// beyond, with `n` (<= 5) zero-area faces in the flat half: in face (a, c, b) of cell (i, j), with
+/// c = (i+1, j) and b = (i+1, j+1), c is moved to the middle of the diagonal a b (exactly:
+/// coordinates in 1/128, exact in float too) or, with `coincident`, onto a. Neither folds a
+/// neighbouring face. (Dense scans' float-rounded slivers: docs/robustness.md.)
+vcgext::TriData GridWithZeroAreaFaces(int n, bool coincident = false);
 /// Icosphere of radius r with `level` 1:4 subdivisions (20·4^level triangles).
 vcgext::TriData Icosphere(int level, double r = 1.0);
 /// UV sphere: n longitudes, m latitude bands, one vertex per pole (valence n), outward faces.

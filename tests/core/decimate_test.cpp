@@ -82,20 +82,6 @@ TEST(WorkingResolution, OpenGridKeepsItsBoundary) {
 }
 
 namespace {
-// A 64 x 64 grid of the unit square (8 192 triangles), flat for x < 0.5 and curved beyond, with
-// `n` (<= 5) zero-area faces in the flat half: in face (a, c, b) of cell (i, j), with c = (i+1, j)
-// and b = (i+1, j+1), c is moved to the middle of the diagonal a b (exactly: coordinates in 1/128)
-// or, with `coincident`, onto a. Neither folds a neighbouring face.
-TriData GridWithZeroAreaFaces(int n, bool coincident) {
-  TriData g = testsupport::HeightField(64, 64, 1.0, [](double x, double) { return x < 0.5 ? 0.0 : 0.4 * (x - 0.5) * (x - 0.5); });
-  const int cells[5][2] = {{5, 5}, {10, 20}, {20, 40}, {15, 50}, {25, 10}};
-  for (int k = 0; k < n; ++k) {
-    const int i = cells[k][0], j = cells[k][1];
-    const int a = j * 65 + i, c = j * 65 + i + 1;
-    g.V[c] = coincident ? g.V[a] : vcgext::Vec3((i + 0.5) / 64, (j + 0.5) / 64, 0.0);
-  }
-  return g;
-}
 int ZeroArea(const TriData& t) {
   int z = 0;
   for (const auto& f : t.F) z += !((t.V[f[1]] - t.V[f[0]]).cross(t.V[f[2]] - t.V[f[0]]).norm() > 0);
@@ -106,7 +92,7 @@ int ZeroArea(const TriData& t) {
 // A dense scan with a few collinear slivers (float rounding) is still decimated: the slivers are
 // flipped away on the copy first (before 2026-12-04 the whole input was used at full resolution).
 TEST(WorkingResolution, ZeroAreaFacesAreFlippedAwayBeforeTheDecimation) {
-  const TriData g = GridWithZeroAreaFaces(5, false);
+  const TriData g = testsupport::GridWithZeroAreaFaces(5);
   ASSERT_EQ(ZeroArea(g), 5);
   vcgext::WorkingResolutionParams p;
   p.maxFaces = 2000;
@@ -137,7 +123,7 @@ TEST(WorkingResolution, ZeroAreaFacesAreFlippedAwayBeforeTheDecimation) {
 
 // Coincident corners cannot be flipped away: the input is used at full resolution, and said so.
 TEST(WorkingResolution, CoincidentCornersKeepTheFullResolution) {
-  const TriData g = GridWithZeroAreaFaces(3, true);
+  const TriData g = testsupport::GridWithZeroAreaFaces(3, true);
   ASSERT_GE(ZeroArea(g), 3);
   vcgext::WorkingResolutionParams p;
   p.maxFaces = 2000;

@@ -587,12 +587,9 @@ TEST(Fitmaps, WorkingResolutionAgreesWithTheFullComputation) {
 
 TEST(Fitmaps, ZeroAreaSliversAreFlippedOnTheWorkingResolutionAndSaid) {
   // A 64 x 64 height field (8 192 triangles) with 4 exactly collinear slivers in its flat half
-  // (a corner moved to the middle of the opposite diagonal; coordinates in 1/128, so exact in
-  // float too): "Compute Fitmaps" with a working resolution of 2 000 triangles decimates it
+  // (testsupport::GridWithZeroAreaFaces): "Compute Fitmaps" with a working resolution of 2 000 triangles decimates it
   // (before 2026-12-04 any zero-area face kept the full resolution) and its log says so.
-  TriData g = testsupport::HeightField(64, 64, 1.0, [](double x, double) { return x < 0.5 ? 0.0 : 0.4 * (x - 0.5) * (x - 0.5); });
-  for (const auto& [i, j] : std::vector<std::pair<int, int>>{{5, 5}, {10, 20}, {20, 40}, {15, 50}})
-    g.V[j * 65 + i + 1] = vcgext::Vec3((i + 0.5) / 64, (j + 0.5) / 64, 0.0);
+  const TriData g = testsupport::GridWithZeroAreaFaces(4);
   vcgext::TMesh m;
   testsupport::ToVcg(g, m);
   FitmapParams p;

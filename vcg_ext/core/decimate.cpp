@@ -259,7 +259,7 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
   }
   r = Decimate(degenerate ? repaired : m, p, cb);
   r.zeroAreaFlips = flips;
-  if (degenerate) r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::lock_guard<std::mutex> g(memo.lock);
   memo.slot[2] = std::move(memo.slot[1]);
   memo.slot[1] = std::move(memo.slot[0]);
