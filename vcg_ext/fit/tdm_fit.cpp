@@ -51,184 +51,217 @@ int EntryPos(const SpMat& P, int row, int col) {
   const int* it = std::lower_bound(b, e, row);
   return (it != e && *it == row) ? int(it - P.innerIndexPtr()) : -1;
 }
-}  // namespace
 
-std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
-                               const FitParams& p, const std::vector<StencilRow>& rows,
-                               const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
-                               double maxDist, const SpMat& LtL, Eigen::MatrixXd& X, FitResult& res,
-                               Progress& prog) {
-  const int nV = ls.NumVertices(), nF = ls.NumFaces(), nR = int(rows.size()), nRef = int(ref.V.size());
-  const double wt = p.tangentWeight;
-  // maxDataRows: every dataStride-th reference vertex gets a row (weighted dataStride times).
-  const int dataStride = p.maxDataRows > 0 && nRef > p.maxDataRows ? (nRef + p.maxDataRows - 1) / p.maxDataRows : 1;
-  const auto refN = FaceNormals(ref);
+// The system's fixed sparsity: P (nV×nV) is the union over faces of support(f)², and the 3nV
+// system H has pattern P in each of its 3×3 blocks.
+struct TdmPattern {
+  std::vector<std::vector<int>> sup;  // per face: its control points, sorted
+  SpMat P;
+  int nnzP = 0;
+  std::vector<std::vector<int>> pos;  // per face: position in P of (sup[a], sup[b]), a-major
+  std::vector<int> diagPos;           // per vertex: position of (v, v) in P
+  std::vector<std::pair<int, double>> lapEntries;  // LᵀL's entries (position in P, value)
+  SpMat H;  // columns ordered c-major, rows r-major within a column
+};
 
-  // ---- fixed pattern: face supports (stencil indices are the patch's control points).
+// Face supports (stencil indices are the patch's control points), widened by any fixed row's
+// indices that are not in them (defensive).
+std::vector<std::vector<int>> FaceSupports(const LimitSurface& ls, const std::vector<StencilRow>& rows,
+                                           const std::vector<int>& rowFace) {
+  const int nF = ls.NumFaces(), nR = int(rows.size());
   std::vector<std::vector<int>> sup(nF);
-  {
-    LimitStencil st;
-    for (int f = 0; f < nF; ++f) {
-      ls.Stencil(f, 0.5, 0.5, st, 0);
-      sup[f] = st.index;
-    }
-    for (int r = 0; r < nR; ++r) {  // defensive: every fixed row's indices belong to its face's support
-      const int f = rowFace[r];
-      if (f < 0) continue;
-      for (int i : rows[r].idx)
-        if (!std::binary_search(sup[f].begin(), sup[f].end(), i)) {
-          sup[f].insert(std::upper_bound(sup[f].begin(), sup[f].end(), i), i);
-        }
-    }
-  }
-  SpMat P(nV, nV);
-  {
-    std::vector<Eigen::Triplet<double>> t;
-    for (int v = 0; v < nV; ++v) t.emplace_back(v, v, 0.0);
-    for (int f = 0; f < nF; ++f)
-      for (int a : sup[f])
-        for (int b : sup[f]) t.emplace_back(a, b, 0.0);
-    P.setFromTriplets(t.begin(), t.end());
-    P.makeCompressed();
-  }
-  const int nnzP = int(P.nonZeros());
-  std::vector<std::vector<int>> pos(nF);
+  LimitStencil st;
   for (int f = 0; f < nF; ++f) {
-    const int m = int(sup[f].size());
-    pos[f].resize(size_t(m) * m);
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) pos[f][size_t(a) * m + b] = EntryPos(P, sup[f][a], sup[f][b]);
+    ls.Stencil(f, 0.5, 0.5, st, 0);
+    sup[f] = st.index;
   }
-  std::vector<int> diagPos(nV);
-  for (int v = 0; v < nV; ++v) diagPos[v] = EntryPos(P, v, v);
+  for (int r = 0; r < nR; ++r) {
+    const int f = rowFace[r];
+    if (f < 0) continue;
+    for (int i : rows[r].idx)
+      if (!std::binary_search(sup[f].begin(), sup[f].end(), i)) {
+        sup[f].insert(std::upper_bound(sup[f].begin(), sup[f].end(), i), i);
+      }
+  }
+  return sup;
+}
+
+// P: a zero for each vertex's diagonal and each pair of one face's support.
+SpMat SupportPattern(int nV, const std::vector<std::vector<int>>& sup) {
+  SpMat P(nV, nV);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int v = 0; v < nV; ++v) t.emplace_back(v, v, 0.0);
+  for (const auto& s : sup)
+    for (int a : s)
+      for (int b : s) t.emplace_back(a, b, 0.0);
+  P.setFromTriplets(t.begin(), t.end());
+  P.makeCompressed();
+  return P;
+}
+
+// H: pattern P in each of the 3×3 blocks.
+SpMat BlockPattern(const SpMat& P) {
+  const int nV = int(P.rows());
+  SpMat H(3 * nV, 3 * nV);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(size_t(9) * P.nonZeros());
+  for (int c = 0; c < 3; ++c)
+    for (int b = 0; b < nV; ++b)
+      for (int r = 0; r < 3; ++r)
+        for (int q = P.outerIndexPtr()[b]; q < P.outerIndexPtr()[b + 1]; ++q)
+          t.emplace_back(r * nV + P.innerIndexPtr()[q], c * nV + b, 1.0);
+  H.setFromTriplets(t.begin(), t.end());
+  H.makeCompressed();
+  return H;
+}
+
+TdmPattern BuildPattern(const LimitSurface& ls, const std::vector<StencilRow>& rows,
+                        const std::vector<int>& rowFace, const SpMat& LtL, bool smooth) {
+  const int nV = ls.NumVertices(), nF = ls.NumFaces();
+  TdmPattern pat;
+  pat.sup = FaceSupports(ls, rows, rowFace);
+  pat.P = SupportPattern(nV, pat.sup);
+  pat.nnzP = int(pat.P.nonZeros());
+  pat.pos.resize(nF);
+  for (int f = 0; f < nF; ++f) {
+    const auto& s = pat.sup[f];
+    const int m = int(s.size());
+    pat.pos[f].resize(size_t(m) * m);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) pat.pos[f][size_t(a) * m + b] = EntryPos(pat.P, s[a], s[b]);
+  }
+  pat.diagPos.resize(nV);
+  for (int v = 0; v < nV; ++v) pat.diagPos[v] = EntryPos(pat.P, v, v);
   // Smoothness term: entries of LᵀL (2-ring of the control net, inside the patch supports).
-  std::vector<std::pair<int, double>> lapEntries;  // (position in P, value)
-  if (p.smoothWeight > 0)
+  if (smooth)
     for (int c = 0; c < LtL.outerSize(); ++c)
       for (SpMat::InnerIterator it(LtL, c); it; ++it) {
-        const int q = EntryPos(P, int(it.row()), int(it.col()));
-        if (q >= 0) lapEntries.emplace_back(q, it.value());
+        const int q = EntryPos(pat.P, int(it.row()), int(it.col()));
+        if (q >= 0) pat.lapEntries.emplace_back(q, it.value());
       }
-  // The 3nV system: block (r,c) has pattern P; columns ordered c-major, rows r-major within a column.
-  SpMat H(3 * nV, 3 * nV);
-  {
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(size_t(9) * nnzP);
-    for (int c = 0; c < 3; ++c)
-      for (int b = 0; b < nV; ++b)
-        for (int r = 0; r < 3; ++r)
-          for (int q = P.outerIndexPtr()[b]; q < P.outerIndexPtr()[b + 1]; ++q)
-            t.emplace_back(r * nV + P.innerIndexPtr()[q], c * nV + b, 1.0);
-    H.setFromTriplets(t.begin(), t.end());
-    H.makeCompressed();
-  }
-  SpdSolver solver(int(H.rows()));
-  solver.analyzePattern(H);
+  pat.H = BlockPattern(pat.P);
+  return pat;
+}
 
-  // ---- per-iteration state.
-  std::vector<Constraint> cons(size_t(nR) + nRef);
-  std::vector<LimitStencil> dataSt(nRef);
-  std::vector<int> dataFace(nRef, -1);
-  std::vector<Eigen::Vector2d> dataUV(nRef, Eigen::Vector2d(0.5, 0.5));
-  std::vector<double> val[6];  // symmetric 3×3 blocks: 00 01 02 11 12 22
-  for (auto& v : val) v.resize(nnzP);
-  Eigen::VectorXd rhs(3 * nV);
-  const int sym[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
-  Eigen::MatrixXd best = X;
-  double bestObj = std::numeric_limits<double>::infinity();
-  // FitParams::keepLowestDataRms: the iterate the fit returns (docs/fit.md "Which iterate is kept").
-  Eigen::MatrixXd kept = X;
-  double keptDataRms = std::numeric_limits<double>::infinity();
-  double lastDataRms = std::numeric_limits<double>::infinity();  // the previous accepted projection's
-  int bestIteration = -1;  // the projection of `best` (the objective's choice)
-  std::vector<Vec3> ctrl(nV);
+// The rows of one iteration: the fixed rows [0, nR) then one per reference vertex.
+struct TdmRows {
+  std::vector<Constraint> cons;
+  std::vector<LimitStencil> dataSt;       // per reference vertex: stencil at its foot point
+  std::vector<int> dataFace;              // per reference vertex: its foot point's face (-1: none yet)
+  std::vector<Eigen::Vector2d> dataUV;    // per reference vertex: its foot point
+};
 
-  double dampingScale = 1;  // x10 after each solve that raised the objective
-  int retries = 0;
-  bool reverted = false;
-  for (int it = 0; it <= p.maxIterations; ++it) {
-    auto tp = Clock::now();
-    for (int v = 0; v < nV; ++v) ctrl[v] = X.row(v).transpose();
-    // (a) fixed samples and vertex rows: projection phi along the limit normal.
-    std::vector<double> sSq(size_t(nR), -1.0);  // per sample row (summed in order below)
-    long misses = 0;
-#pragma omp parallel for schedule(static) reduction(+ : misses)
-    for (int r = 0; r < nR; ++r) {
-      const StencilRow& row = rows[r];
-      Constraint& c = cons[r];
-      c.idx = row.idx.data();
-      c.w = row.w.data();
-      c.n = int(row.idx.size());
-      c.weight = 0;
-      if (rowFace[r] < 0 || rowWeight[r] <= 0) continue;
-      Vec3 P0 = Vec3::Zero(), Du = Vec3::Zero(), Dv = Vec3::Zero();
-      for (int k = 0; k < c.n; ++k) {
-        const Vec3& q = ctrl[row.idx[k]];
-        P0 += row.w[k] * q;
-        Du += row.du[k] * q;
-        Dv += row.dv[k] * q;
-      }
-      Vec3 n = Du.cross(Dv);
-      const double nn = n.norm();
-      EmbreeScene::Hit h;
-      if (nn > 0) h = scene.IntersectLine(P0, n / nn, maxDist);
-      if (!h.valid) {
-        if (r < nS) ++misses;
-        h = scene.ClosestPoint(P0, maxDist);
-      }
-      if (!h.valid) continue;  // no target: no pull
-      // A hit on a sheet facing the other way (the far side of a thin part, e.g. an ear) is the
-      // wrong correspondence: no pull from this row (the reference-vertex rows cover that part).
-      // (Passing through to the nearest consistently oriented sheet, as the bake does, was
-      // measured worse for the fit: 3.88 vs 3.75 permille on bunny00.)
-      if (nn > 0 && refN[h.face].dot(n) < 0) continue;
-      c.target = h.point;
-      c.normal = refN[h.face];
-      c.weight = rowWeight[r] * p.sampleWeight;
-      if (r < nS) sSq[r] = (h.point - P0).squaredNorm();
+// Squared distances summed in row order (the sum does not depend on thread scheduling).
+struct SquaredSum {
+  double sum = 0, count = 0;
+};
+SquaredSum SumInOrder(const std::vector<double>& sq) {  // entries < 0 are skipped
+  SquaredSum s;
+  for (double d : sq)
+    if (d >= 0) { s.sum += d; s.count += 1; }
+  return s;
+}
+
+// (a) Fixed samples and vertex rows: projection phi along the limit normal. Returns the samples'
+// squared distances; `misses` counts the samples [0, nS) whose ray found no reference.
+SquaredSum ProjectFixedRows(const std::vector<Vec3>& ctrl, const std::vector<StencilRow>& rows,
+                            const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
+                            const EmbreeScene& scene, const std::vector<Vec3>& refN, double maxDist,
+                            double sampleWeight, std::vector<Constraint>& cons, long& misses) {
+  const int nR = int(rows.size());
+  std::vector<double> sSq(size_t(nR), -1.0);  // per sample row (summed in order below)
+  long miss = 0;
+#pragma omp parallel for schedule(static) reduction(+ : miss)
+  for (int r = 0; r < nR; ++r) {
+    const StencilRow& row = rows[r];
+    Constraint& c = cons[r];
+    c.idx = row.idx.data();
+    c.w = row.w.data();
+    c.n = int(row.idx.size());
+    c.weight = 0;
+    if (rowFace[r] < 0 || rowWeight[r] <= 0) continue;
+    Vec3 P0 = Vec3::Zero(), Du = Vec3::Zero(), Dv = Vec3::Zero();
+    for (int k = 0; k < c.n; ++k) {
+      const Vec3& q = ctrl[row.idx[k]];
+      P0 += row.w[k] * q;
+      Du += row.du[k] * q;
+      Dv += row.dv[k] * q;
     }
-    double sSum = 0, sW = 0;
-    for (double d : sSq)
-      if (d >= 0) { sSum += d; sW += 1; }
-    // (b) reference vertices: foot points on the current limit.
-    LimitTessellation tess = TessellateLimit(ls, ctrl, p.footpointSegments);
-    EmbreeScene limScene(tess.mesh);
-    const int Nf = p.footpointSegments, triPerFace = 2 * Nf * Nf;
-    std::vector<double> dSq(size_t(nRef), -1.0);  // per reference vertex (summed in order below)
+    Vec3 n = Du.cross(Dv);
+    const double nn = n.norm();
+    EmbreeScene::Hit h;
+    if (nn > 0) h = scene.IntersectLine(P0, n / nn, maxDist);
+    if (!h.valid) {
+      if (r < nS) ++miss;
+      h = scene.ClosestPoint(P0, maxDist);
+    }
+    if (!h.valid) continue;  // no target: no pull
+    // A hit on a sheet facing the other way (the far side of a thin part, e.g. an ear) is the
+    // wrong correspondence: no pull from this row (the reference-vertex rows cover that part).
+    // (Passing through to the nearest consistently oriented sheet, as the bake does, was
+    // measured worse for the fit: 3.88 vs 3.75 permille on bunny00.)
+    if (nn > 0 && refN[h.face].dot(n) < 0) continue;
+    c.target = h.point;
+    c.normal = refN[h.face];
+    c.weight = rowWeight[r] * sampleWeight;
+    if (r < nS) sSq[r] = (h.point - P0).squaredNorm();
+  }
+  misses = miss;
+  return SumInOrder(sSq);
+}
+
+// The foot point (face, uv) of x on the tessellated limit's hit `h`, refined by Gauss-Newton on
+// |s(u,v) − x|² over the exact limit, clamped to the patch.
+Eigen::Vector2d FootPointUV(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const Vec3& x,
+                            const EmbreeScene::Hit& h, int Nf, int& f) {
+  const int triPerFace = 2 * Nf * Nf;
+  f = h.face / triPerFace;
+  const int local = h.face % triPerFace, cell = local / 2;
+  const double ci = cell % Nf, cj = cell / Nf;
+  Eigen::Vector2d c0(ci, cj), c1, c2;
+  if (local % 2 == 0) { c1 = {ci + 1, cj}; c2 = {ci + 1, cj + 1}; }
+  else { c1 = {ci + 1, cj + 1}; c2 = {ci, cj + 1}; }
+  Eigen::Vector2d uv = ((1 - h.u - h.v) * c0 + h.u * c1 + h.v * c2) / Nf;
+  Vec3 S, Du, Dv;
+  for (int g = 0; g < 3; ++g) {
+    ls.Evaluate(f, uv[0], uv[1], ctrl, &S, &Du, &Dv);
+    const Vec3 d = x - S;
+    Eigen::Matrix2d JtJ;
+    JtJ << Du.dot(Du), Du.dot(Dv), Du.dot(Dv), Dv.dot(Dv);
+    const Eigen::Vector2d g2(Du.dot(d), Dv.dot(d));
+    if (!(std::abs(JtJ.determinant()) > 1e-30)) break;
+    const Eigen::Vector2d step = JtJ.inverse() * g2;
+    uv = (uv + step).cwiseMax(0.0).cwiseMin(1.0);
+    if (step.norm() < 1e-6) break;
+  }
+  return uv;
+}
+
+// (b) Reference vertices (every dataStride-th): foot points on the current limit, pulled to x
+// along the limit normal there. Returns their squared distances.
+SquaredSum FootPointRows(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
+                         const FitParams& p, int dataStride, double maxDist, int nR, TdmRows& R) {
+  const int nRef = int(ref.V.size());
+  LimitTessellation tess = TessellateLimit(ls, ctrl, p.footpointSegments);
+  EmbreeScene limScene(tess.mesh);
+  std::vector<double> dSq(size_t(nRef), -1.0);  // per reference vertex (summed in order below)
 #pragma omp parallel
-    {
+  {
     int hint = -1;  // the previous vertex's foot face (ClosestPoint's hint: the same answer, sooner)
 #pragma omp for schedule(dynamic, 256)
     for (int i = 0; i < nRef; ++i) {
-      Constraint& c = cons[size_t(nR) + i];
+      Constraint& c = R.cons[size_t(nR) + i];
       c.weight = 0;
       if (p.dataWeight <= 0 || i % dataStride) continue;
       const Vec3& x = ref.V[i];
       EmbreeScene::Hit h = limScene.ClosestPoint(x, maxDist, hint);
       if (!h.valid) continue;
       hint = h.face;
-      const int f = h.face / triPerFace, local = h.face % triPerFace, cell = local / 2;
-      const double ci = cell % Nf, cj = cell / Nf;
-      Eigen::Vector2d c0(ci, cj), c1, c2;
-      if (local % 2 == 0) { c1 = {ci + 1, cj}; c2 = {ci + 1, cj + 1}; }
-      else { c1 = {ci + 1, cj + 1}; c2 = {ci, cj + 1}; }
-      Eigen::Vector2d uv = ((1 - h.u - h.v) * c0 + h.u * c1 + h.v * c2) / Nf;
-      // Gauss-Newton on |s(u,v) − x|², clamped to the patch.
-      Vec3 S, Du, Dv;
-      for (int g = 0; g < 3; ++g) {
-        ls.Evaluate(f, uv[0], uv[1], ctrl, &S, &Du, &Dv);
-        const Vec3 d = x - S;
-        Eigen::Matrix2d JtJ;
-        JtJ << Du.dot(Du), Du.dot(Dv), Du.dot(Dv), Dv.dot(Dv);
-        const Eigen::Vector2d g2(Du.dot(d), Dv.dot(d));
-        if (!(std::abs(JtJ.determinant()) > 1e-30)) break;
-        const Eigen::Vector2d step = JtJ.inverse() * g2;
-        uv = (uv + step).cwiseMax(0.0).cwiseMin(1.0);
-        if (step.norm() < 1e-6) break;
-      }
-      LimitStencil& st = dataSt[i];
+      int f = -1;
+      const Eigen::Vector2d uv = FootPointUV(ls, ctrl, x, h, p.footpointSegments, f);
+      LimitStencil& st = R.dataSt[i];
       ls.Stencil(f, uv[0], uv[1], st, 1);
-      S.setZero(); Du.setZero(); Dv.setZero();
+      Vec3 S = Vec3::Zero(), Du = Vec3::Zero(), Dv = Vec3::Zero();
       for (int k = 0; k < st.Size(); ++k) {
         const Vec3& q = ctrl[st.index[k]];
         S += st.P[k] * q;
@@ -238,8 +271,8 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
       Vec3 n = Du.cross(Dv);
       if (!(n.norm() > 0)) n = tess.normal[tess.mesh.F[h.face][0]];
       if (!(n.norm() > 0)) continue;
-      dataFace[i] = f;
-      dataUV[i] = uv;
+      R.dataFace[i] = f;
+      R.dataUV[i] = uv;
       c.idx = st.index.data();
       c.w = st.P.data();
       c.n = st.Size();
@@ -248,16 +281,229 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
       c.weight = p.dataWeight * dataStride;
       dSq[i] = (x - S).squaredNorm();
     }
+  }
+  return SumInOrder(dSq);
+}
+
+// The normal equations' symmetric 3×3 blocks (00 01 02 11 12 22, each on pattern P) and right side.
+struct TdmNormalEquations {
+  std::vector<double> val[6];
+  Eigen::VectorXd rhs;
+};
+
+// The active rows grouped by face (counting sort, row order kept within a face): `order` holds
+// row indices, face f's are order[start[f] .. start[f+1]).
+void RowsByFace(const TdmRows& R, const std::vector<int>& rowFace, int nR, int nF, std::vector<int>& order,
+                std::vector<int>& start) {
+  order.assign(R.cons.size(), 0);
+  start.assign(nF + 1, 0);
+  auto faceOf = [&](size_t k) { return k < size_t(nR) ? rowFace[k] : R.dataFace[k - nR]; };
+  for (size_t k = 0; k < R.cons.size(); ++k)
+    if (R.cons[k].weight > 0) ++start[faceOf(k) + 1];
+  for (int f = 0; f < nF; ++f) start[f + 1] += start[f];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (size_t k = 0; k < R.cons.size(); ++k)
+    if (R.cons[k].weight > 0) order[fill[faceOf(k)]++] = int(k);
+}
+
+// One face's dense local block: lower halves of the 6 symmetric components (L, m×m each) and the
+// right side (B, 3×m) of the rows order[q0 .. q1).
+void FaceBlock(const std::vector<int>& S, const std::vector<Constraint>& cons, const std::vector<int>& order,
+               int q0, int q1, double wt, std::array<std::vector<double>, 6>& L, std::vector<double>& B) {
+  const int m = int(S.size());
+  for (auto& l : L) l.assign(size_t(m) * m, 0.0);
+  B.assign(size_t(3) * m, 0.0);
+  std::vector<int> loc;
+  for (int q = q0; q < q1; ++q) {
+    const Constraint& c = cons[order[q]];
+    loc.resize(c.n);
+    bool ok = true;
+    for (int k = 0; k < c.n; ++k) {
+      auto itS = std::lower_bound(S.begin(), S.end(), c.idx[k]);
+      if (itS == S.end() || *itS != c.idx[k]) { ok = false; break; }
+      loc[k] = int(itS - S.begin());
     }
-    double dSum = 0, dW = 0;
-    for (double d : dSq)
-      if (d >= 0) { dSum += d; dW += 1; }
+    if (!ok) continue;  // cannot happen: Bfr stencils use the face's patch points
+    const Vec3& n = c.normal;
+    Eigen::Matrix3d Q = c.weight * (wt * Eigen::Matrix3d::Identity() + (1 - wt) * n * n.transpose());
+    const Vec3 Qt = Q * c.target;
+    const double q6[6] = {Q(0, 0), Q(0, 1), Q(0, 2), Q(1, 1), Q(1, 2), Q(2, 2)};
+    for (int a = 0; a < c.n; ++a) {
+      const double wa = c.w[a];
+      if (wa == 0) continue;
+      const size_t ra = size_t(loc[a]) * m;
+      for (int b = 0; b <= a; ++b) {  // lower half (loc is increasing); mirrored when scattered
+        const double ww = wa * c.w[b];
+        const size_t e = ra + loc[b];
+        for (int s = 0; s < 6; ++s) L[s][e] += ww * q6[s];
+      }
+      for (int d = 0; d < 3; ++d) B[size_t(d) * m + loc[a]] += wa * Qt[d];
+    }
+  }
+}
+
+// Adds face f's local block into the normal equations (both halves).
+void ScatterFaceBlock(const TdmPattern& pat, int f, int nV, const std::array<std::vector<double>, 6>& L,
+                      const std::vector<double>& B, TdmNormalEquations& ne) {
+  const std::vector<int>& S = pat.sup[f];
+  const int m = int(S.size());
+  const int* pf = pat.pos[f].data();
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b <= a; ++b) {
+      const size_t e = size_t(a) * m + b;
+      const int p1 = pf[e], p2 = pf[size_t(b) * m + a];
+      for (int s = 0; s < 6; ++s) {
+        ne.val[s][p1] += L[s][e];
+        if (a != b) ne.val[s][p2] += L[s][e];
+      }
+    }
+  for (int d = 0; d < 3; ++d)
+    for (int a = 0; a < m; ++a) ne.rhs[d * nV + S[a]] += B[size_t(d) * m + a];
+}
+
+// Assembly per face (dense local blocks). Local blocks are computed in parallel for a chunk of
+// faces, then added in face order: the floating-point sums (hence the fit) do not depend on thread
+// scheduling. (Atomic scatter made repeated runs differ, elephant.off: RMS 3.29-3.59 permille.)
+void Assemble(const TdmPattern& pat, const TdmRows& R, const std::vector<int>& rowFace, int nR, int nV,
+              double wt, TdmNormalEquations& ne) {
+  const int nF = int(pat.sup.size());
+  std::vector<int> order, start;
+  RowsByFace(R, rowFace, nR, nF, order, start);
+  for (auto& v : ne.val) std::fill(v.begin(), v.end(), 0.0);
+  ne.rhs.setZero();
+  const int chunk = 256;
+  std::vector<std::array<std::vector<double>, 6>> Lc(chunk);
+  std::vector<std::vector<double>> Bc(chunk);
+  for (int f0 = 0; f0 < nF; f0 += chunk) {
+    const int f1 = std::min(nF, f0 + chunk);
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int f = f0; f < f1; ++f) {
+      if (start[f] == start[f + 1]) { Bc[f - f0].clear(); continue; }
+      FaceBlock(pat.sup[f], R.cons, order, start[f], start[f + 1], wt, Lc[f - f0], Bc[f - f0]);
+    }
+    for (int f = f0; f < f1; ++f)
+      if (!Bc[f - f0].empty()) ScatterFaceBlock(pat, f, nV, Lc[f - f0], Bc[f - f0], ne);
+  }
+}
+
+// Damping λ = dampingScale · dampingWeight · mean diagonal (Levenberg; vanishes at the fixed
+// point) and smoothness μ·LᵀL (μ = smoothWeight · mean diagonal), then H's values from the
+// blocks. Returns λ.
+double FillSystem(const TdmPattern& pat, const FitParams& p, double dampingScale, int nV, TdmNormalEquations& ne,
+                  SpMat& H) {
+  double diagSum = 0;
+  for (int v = 0; v < nV; ++v)
+    diagSum += ne.val[0][pat.diagPos[v]] + ne.val[3][pat.diagPos[v]] + ne.val[5][pat.diagPos[v]];
+  const double lambda = dampingScale * p.dampingWeight * diagSum / (3.0 * nV);
+  const double mu = p.smoothWeight * diagSum / (3.0 * nV);
+  for (const auto& [q, x] : pat.lapEntries)
+    for (int s : {0, 3, 5}) ne.val[s][q] += mu * x;
+  const int sym[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+  const SpMat& P = pat.P;
+  double* hv = H.valuePtr();
+  size_t k = 0;
+  for (int c = 0; c < 3; ++c)
+    for (int b = 0; b < nV; ++b)
+      for (int r = 0; r < 3; ++r)
+        for (int q = P.outerIndexPtr()[b]; q < P.outerIndexPtr()[b + 1]; ++q) {
+          double v = ne.val[sym[r][c]][q];
+          if (r == c && P.innerIndexPtr()[q] == b) v += lambda;
+          hv[k++] = v;
+        }
+  return lambda;
+}
+
+// Which iterate the fit returns and when it stops (FitParams::keepLowestDataRms, damping retries;
+// docs/fit.md "Which iterate is kept", "Damping").
+struct IterateChoice {
+  Eigen::MatrixXd best;  // the objective's choice
+  double bestObj = std::numeric_limits<double>::infinity();
+  int bestIteration = -1;  // the projection of `best`
+  Eigen::MatrixXd kept;    // keepLowestDataRms: the lowest data RMS's
+  double keptDataRms = std::numeric_limits<double>::infinity();
+  double lastDataRms = std::numeric_limits<double>::infinity();  // the previous accepted projection's
+  double dampingScale = 1;  // x10 after each solve that raised the objective
+  int retries = 0;
+  bool reverted = false;
+};
+
+enum class Step { Solve, Retry, Stop };
+
+// After the projection of iterate X (objective `obj`, data RMS `dRms`): keep, revert or stop.
+Step ChooseStep(IterateChoice& ch, double obj, double dRms, int it, const FitParams& p, Eigen::MatrixXd& X,
+                FitResult& res) {
+  if (p.keepLowestDataRms && dRms < ch.keptDataRms) {
+    ch.keptDataRms = dRms;
+    ch.kept = X;
+    res.keptIteration = int(res.dataRmsPerIteration.size()) - 1;
+  }
+  if (ch.reverted) {
+    ch.reverted = false;  // X is the best iterate again: solve from it with the larger damping
+    return Step::Solve;
+  }
+  if (!(obj < ch.bestObj) && ch.retries < p.dampingRetries && it < p.maxIterations) {
+    // The last solve raised the objective: back to the best iterate, 10x the damping
+    // (Levenberg-Marquardt; docs/fit.md "Damping").
+    X = ch.best;
+    ch.dampingScale *= 10;
+    ++ch.retries;
+    ++res.dampingRetries;
+    ch.reverted = true;
+    return Step::Retry;
+  }
+  const double before = ch.bestObj;
+  bool stop = StopIterating(obj, ch.bestObj, X, ch.best, p, it);
+  if (ch.bestObj < before) ch.bestIteration = int(res.objectivePerIteration.size()) - 1;
+  // keepLowestDataRms: the returned iterate is the data RMS's, so the objective's small
+  // improvement alone does not end the fit while the data RMS still improves by minImprovement
+  // (bunny00 @1000: the objective improved by < 1 % with the data RMS 3 % lower, one more
+  // solve took the report from 0.353 to 0.344 per mille; docs/fit.md "Which iterate is kept")
+  if (stop && p.keepLowestDataRms && obj < before && it < p.maxIterations &&
+      dRms < (1 - p.minImprovement) * ch.lastDataRms)
+    stop = false;
+  ch.lastDataRms = dRms;
+  return stop ? Step::Stop : Step::Solve;
+}
+}  // namespace
+
+std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
+                               const FitParams& p, const std::vector<StencilRow>& rows,
+                               const std::vector<int>& rowFace, const std::vector<double>& rowWeight, int nS,
+                               double maxDist, const SpMat& LtL, Eigen::MatrixXd& X, FitResult& res,
+                               Progress& prog) {
+  const int nV = ls.NumVertices(), nR = int(rows.size()), nRef = int(ref.V.size());
+  // maxDataRows: every dataStride-th reference vertex gets a row (weighted dataStride times).
+  const int dataStride = p.maxDataRows > 0 && nRef > p.maxDataRows ? (nRef + p.maxDataRows - 1) / p.maxDataRows : 1;
+  const auto refN = FaceNormals(ref);
+  TdmPattern pat = BuildPattern(ls, rows, rowFace, LtL, p.smoothWeight > 0);
+  SpdSolver solver(int(pat.H.rows()));
+  solver.analyzePattern(pat.H);
+
+  TdmRows R;
+  R.cons.resize(size_t(nR) + nRef);
+  R.dataSt.resize(nRef);
+  R.dataFace.assign(nRef, -1);
+  R.dataUV.assign(nRef, Eigen::Vector2d(0.5, 0.5));
+  TdmNormalEquations ne;
+  for (auto& v : ne.val) v.resize(pat.nnzP);
+  ne.rhs.resize(3 * nV);
+  IterateChoice ch;
+  ch.best = X;
+  ch.kept = X;
+  std::vector<Vec3> ctrl(nV);
+  for (int it = 0; it <= p.maxIterations; ++it) {
+    auto tp = Clock::now();
+    for (int v = 0; v < nV; ++v) ctrl[v] = X.row(v).transpose();
+    long misses = 0;
+    const SquaredSum s =
+        ProjectFixedRows(ctrl, rows, rowFace, rowWeight, nS, scene, refN, maxDist, p.sampleWeight, R.cons, misses);
+    const SquaredSum d = FootPointRows(ls, ctrl, ref, p, dataStride, maxDist, nR, R);
     res.secondsProject += Since(tp);
-    const double sRms = std::sqrt(sSum / std::max(sW, 1.0));
-    const double dRms = std::sqrt(dSum / std::max(dW, 1.0));
+    const double sRms = std::sqrt(s.sum / std::max(s.count, 1.0));
+    const double dRms = std::sqrt(d.sum / std::max(d.count, 1.0));
     const double dataW = p.dataWeight * dataStride;
-    const double obj = std::sqrt((p.sampleWeight * sSum + dataW * dSum) /
-                                 std::max(p.sampleWeight * sW + dataW * dW, 1e-300));
+    const double obj = std::sqrt((p.sampleWeight * s.sum + dataW * d.sum) /
+                                 std::max(p.sampleWeight * s.count + dataW * d.count, 1e-300));
     res.rayMissFraction = double(misses) / std::max(nS, 1);
     if (it == 0 && res.rayMissFraction > p.maxMissFraction)
       return "the control mesh is far from the reference: " +
@@ -267,147 +513,25 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     res.rmsPerIteration.push_back(sRms);
     res.dataRmsPerIteration.push_back(dRms);
     res.objectivePerIteration.push_back(obj);
-    if (p.keepLowestDataRms && dRms < keptDataRms) {
-      keptDataRms = dRms;
-      kept = X;
-      res.keptIteration = int(res.dataRmsPerIteration.size()) - 1;
-    }
-    if (reverted) {
-      reverted = false;  // X is the best iterate again: solve from it with the larger damping
-    } else if (!(obj < bestObj) && retries < p.dampingRetries && it < p.maxIterations) {
-      // The last solve raised the objective: back to the best iterate, 10x the damping
-      // (Levenberg-Marquardt; docs/fit.md "Damping").
-      X = best;
-      dampingScale *= 10;
-      ++retries;
-      ++res.dampingRetries;
-      reverted = true;
-      continue;
-    } else {
-      const double before = bestObj;
-      bool stop = StopIterating(obj, bestObj, X, best, p, it);
-      if (bestObj < before) bestIteration = int(res.objectivePerIteration.size()) - 1;
-      // keepLowestDataRms: the returned iterate is the data RMS's, so the objective's small
-      // improvement alone does not end the fit while the data RMS still improves by minImprovement
-      // (bunny00 @1000: the objective improved by < 1 % with the data RMS 3 % lower, one more
-      // solve took the report from 0.353 to 0.344 per mille; docs/fit.md "Which iterate is kept")
-      if (stop && p.keepLowestDataRms && obj < before && it < p.maxIterations &&
-          dRms < (1 - p.minImprovement) * lastDataRms)
-        stop = false;
-      lastDataRms = dRms;
-      if (stop) break;
-    }
+    const Step step = ChooseStep(ch, obj, dRms, it, p, X, res);
+    if (step == Step::Retry) continue;
+    if (step == Step::Stop) break;
     prog(20 + 80.0 * (it + 1) / (p.maxIterations + 1), "Fit: project and solve");
 
-    // ---- assemble (per face, dense local blocks) and solve.
     auto ts = Clock::now();
-    std::vector<int> order(cons.size()), start(nF + 1, 0);
-    auto faceOf = [&](size_t k) { return k < size_t(nR) ? rowFace[k] : dataFace[k - nR]; };
-    for (size_t k = 0; k < cons.size(); ++k)
-      if (cons[k].weight > 0) ++start[faceOf(k) + 1];
-    for (int f = 0; f < nF; ++f) start[f + 1] += start[f];
-    {
-      std::vector<int> fill(start.begin(), start.end() - 1);
-      for (size_t k = 0; k < cons.size(); ++k)
-        if (cons[k].weight > 0) order[fill[faceOf(k)]++] = int(k);
-    }
-    for (auto& v : val) std::fill(v.begin(), v.end(), 0.0);
-    rhs.setZero();
-    // Local blocks are computed in parallel for a chunk of faces, then added in face order: the
-    // floating-point sums (hence the fit) do not depend on thread scheduling. (Atomic scatter
-    // made repeated runs differ, elephant.off: RMS 3.29-3.59 permille.)
-    const int chunk = 256;
-    std::vector<std::array<std::vector<double>, 6>> Lc(chunk);
-    std::vector<std::vector<double>> Bc(chunk);
-    for (int f0 = 0; f0 < nF; f0 += chunk) {
-      const int f1 = std::min(nF, f0 + chunk);
-#pragma omp parallel for schedule(dynamic, 4)
-      for (int f = f0; f < f1; ++f) {
-        auto& L = Lc[f - f0];
-        auto& B = Bc[f - f0];
-        if (start[f] == start[f + 1]) { B.clear(); continue; }
-        const std::vector<int>& S = sup[f];
-        const int m = int(S.size());
-        for (auto& l : L) l.assign(size_t(m) * m, 0.0);
-        B.assign(size_t(3) * m, 0.0);
-        std::vector<int> loc;
-        for (int q = start[f]; q < start[f + 1]; ++q) {
-          const Constraint& c = cons[order[q]];
-          loc.resize(c.n);
-          bool ok = true;
-          for (int k = 0; k < c.n; ++k) {
-            auto itS = std::lower_bound(S.begin(), S.end(), c.idx[k]);
-            if (itS == S.end() || *itS != c.idx[k]) { ok = false; break; }
-            loc[k] = int(itS - S.begin());
-          }
-          if (!ok) continue;  // cannot happen: Bfr stencils use the face's patch points
-          const Vec3& n = c.normal;
-          Eigen::Matrix3d Q = c.weight * (wt * Eigen::Matrix3d::Identity() + (1 - wt) * n * n.transpose());
-          const Vec3 Qt = Q * c.target;
-          const double q6[6] = {Q(0, 0), Q(0, 1), Q(0, 2), Q(1, 1), Q(1, 2), Q(2, 2)};
-          for (int a = 0; a < c.n; ++a) {
-            const double wa = c.w[a];
-            if (wa == 0) continue;
-            const size_t ra = size_t(loc[a]) * m;
-            for (int b = 0; b <= a; ++b) {  // lower half (loc is increasing); mirrored when scattered
-              const double ww = wa * c.w[b];
-              const size_t e = ra + loc[b];
-              for (int s = 0; s < 6; ++s) L[s][e] += ww * q6[s];
-            }
-            for (int d = 0; d < 3; ++d) B[size_t(d) * m + loc[a]] += wa * Qt[d];
-          }
-        }
-      }
-      for (int f = f0; f < f1; ++f) {
-        const auto& L = Lc[f - f0];
-        const auto& B = Bc[f - f0];
-        if (B.empty()) continue;
-        const std::vector<int>& S = sup[f];
-        const int m = int(S.size());
-        const int* pf = pos[f].data();
-        for (int a = 0; a < m; ++a)
-          for (int b = 0; b <= a; ++b) {
-            const size_t e = size_t(a) * m + b;
-            const int p1 = pf[e], p2 = pf[size_t(b) * m + a];
-            for (int s = 0; s < 6; ++s) {
-              val[s][p1] += L[s][e];
-              if (a != b) val[s][p2] += L[s][e];
-            }
-          }
-        for (int d = 0; d < 3; ++d)
-          for (int a = 0; a < m; ++a) rhs[d * nV + S[a]] += B[size_t(d) * m + a];
-      }
-    }
-    // Damping λ = dampingWeight · mean diagonal (Levenberg; vanishes at the fixed point).
-    double diagSum = 0;
-    for (int v = 0; v < nV; ++v) diagSum += val[0][diagPos[v]] + val[3][diagPos[v]] + val[5][diagPos[v]];
-    const double lambda = dampingScale * p.dampingWeight * diagSum / (3.0 * nV);
-    const double mu = p.smoothWeight * diagSum / (3.0 * nV);
-    for (const auto& [q, x] : lapEntries)
-      for (int s : {0, 3, 5}) val[s][q] += mu * x;
-    {
-      double* hv = H.valuePtr();
-      size_t k = 0;
-      for (int c = 0; c < 3; ++c)
-        for (int b = 0; b < nV; ++b)
-          for (int r = 0; r < 3; ++r)
-            for (int q = P.outerIndexPtr()[b]; q < P.outerIndexPtr()[b + 1]; ++q) {
-              double v = val[sym[r][c]][q];
-              if (r == c && P.innerIndexPtr()[q] == b) v += lambda;
-              hv[k++] = v;
-            }
-    }
-    for (int c = 0; c < 3; ++c) rhs.segment(c * nV, nV) += lambda * X.col(c);
-    solver.factorize(H);
+    Assemble(pat, R, rowFace, nR, nV, p.tangentWeight, ne);
+    const double lambda = FillSystem(pat, p, ch.dampingScale, nV, ne, pat.H);
+    for (int c = 0; c < 3; ++c) ne.rhs.segment(c * nV, nV) += lambda * X.col(c);
+    solver.factorize(pat.H);
     if (solver.info() != Eigen::Success) { res.secondsSolve += Since(ts); break; }
-    Eigen::VectorXd sol = solver.solve(rhs);
+    Eigen::VectorXd sol = solver.solve(ne.rhs);
     res.secondsSolve += Since(ts);
     ++res.iterations;
     if (!sol.allFinite()) break;
     for (int c = 0; c < 3; ++c) X.col(c) = sol.segment(c * nV, nV);
   }
-  X = p.keepLowestDataRms ? kept : best;
-  if (!p.keepLowestDataRms) res.keptIteration = bestIteration;
+  X = p.keepLowestDataRms ? ch.kept : ch.best;
+  if (!p.keepLowestDataRms) res.keptIteration = ch.bestIteration;
   return "";
 }
 
