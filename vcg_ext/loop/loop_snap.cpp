@@ -192,6 +192,136 @@ bool EdgeOptimal(const Local& L, int f, double v, double w, int k) {
   return db[(k + 2) % 3] < 0;
 }
 
+
+// The face and barycentrics (v, w) of the control net's closest point to p (the walk's start).
+void ClosestNetPoint(const LoopSurface& surf, const Vec3& p, const EmbreeScene* netScene, int& face, double& v,
+                     double& w) {
+  if (netScene && netScene->Ok()) {
+    auto h = netScene->ClosestPoint(p);
+    if (h.valid) { face = h.face; v = h.u; w = h.v; return; }
+  }
+  double best = std::numeric_limits<double>::infinity();
+  const auto& N = surf.Net();
+  for (int f = 0; f < surf.NumFaces(); ++f) {
+    double a, b;
+    Vec3 q = ClosestPointOnTriangle(p, N.V[N.F[f][0]], N.V[N.F[f][1]], N.V[N.F[f][2]], &a, &b);
+    double d = (q - p).squaredNorm();
+    if (d < best) { best = d; face = f; v = a; w = b; }
+  }
+}
+
+// Newton in face f from (vv, ww), crossing to the neighbour wherever the step leaves the face,
+// until a stationary point (true), the boundary or a ping-pong (the optimum on that edge), or the
+// iteration and move limits. On return (f, vv, ww) is where the walk ended.
+bool WalkToOptimum(Local& L, int& f, double& vv, double& ww, const LoopSnapParams& sp) {
+  const LoopSurface& surf = L.s;
+  int prevFace = -1, returns = 0, exitEdge = -1;
+  for (int round = 0; round < 4 * sp.maxIterations && L.iters < sp.maxIterations * 3; ++round) {
+    int st = NewtonInFace(L, f, vv, ww, exitEdge, sp.maxIterations);
+    if (st == 0) return true;
+    if (st == 2) return false;
+    // moving out through exitEdge
+    int g = surf.FaceAcross(f, exitEdge);
+    // Going back to the face we came from: a ping-pong across their edge (the optimum lies on
+    // it) only when it repeats. A single return is legitimate: a long step near a corner can
+    // overshoot into the neighbour, whose step points back (elephant.off); the second visit
+    // starts from the edge, where the model is good.
+    const bool pingPong = g == prevFace && ++returns > 2;
+    if (g < 0 || pingPong)  // boundary, or ping-pong across the edge: the optimum lies on the edge
+      return EdgeMinimize(L, f, vv, ww, exitEdge, sp.maxIterations) && EdgeOptimal(L, f, vv, ww, exitEdge);
+    prevFace = f;
+    CrossEdge(surf, f, vv, ww, exitEdge);
+    ++L.moves;
+    if (L.moves > 200) return false;
+  }
+  return false;
+}
+
+// The fallback's candidate faces: f first, then the faces within two edge-steps of f and every
+// face around its three corners, cut to the kMaxFallbackFaces closest to p.
+std::vector<int> FallbackFaces(const LoopSurface& surf, const Vec3& p, int f) {
+  const auto& N = surf.Net();
+  std::vector<int> cand;
+  // faces within two edge-steps of the current face ...
+  auto add = [&](int g) {
+    if (g >= 0 && std::find(cand.begin(), cand.end(), g) == cand.end()) cand.push_back(g);
+  };
+  cand.push_back(f);
+  for (int r = 0; r < 2; ++r) {
+    size_t n0 = cand.size();
+    for (size_t i = 0; i < n0; ++i)
+      for (int k = 0; k < 3; ++k) add(surf.FaceAcross(cand[i], k));
+  }
+  // ... and every face around its three corners: near a high-valence vertex the closest point
+  // can be several edge-steps away, and Newton ping-pongs between two faces of the fan (the
+  // (v, w) charts meet at an angle there). Found on elephant.off: 14 of 396 points on the
+  // surface re-snapped to 1e-4..1e-3 of the diagonal.
+  for (int k = 0; k < 3; ++k) {
+    const int x = N.F[f][k];
+    std::vector<int> fan{f};
+    for (size_t i = 0; i < fan.size(); ++i)
+      for (int e = 0; e < 3; ++e) {
+        int g = surf.FaceAcross(fan[i], e);
+        if (g < 0 || std::find(fan.begin(), fan.end(), g) != fan.end()) continue;
+        const auto& G = N.F[g];
+        if (G[0] == x || G[1] == x || G[2] == x) fan.push_back(g);
+      }
+    for (int g : fan) add(g);
+  }
+  // Round a vertex of very high valence (a UV sphere's pole of valence 500) the fans hold
+  // hundreds of faces, each a Newton solve whose evaluations subdivide the whole ring: keep the
+  // current face and the kMaxFallbackFaces - 1 others whose control triangles are closest to p
+  // (the closest limit point lies over them: the limit surface stays within the control
+  // polygon's convex hull). Ordinary meshes have fewer candidates and are searched in full.
+  constexpr size_t kMaxFallbackFaces = 48;
+  if (cand.size() > kMaxFallbackFaces) {
+    std::vector<std::pair<double, int>> byDistance;
+    byDistance.reserve(cand.size() - 1);
+    for (size_t i = 1; i < cand.size(); ++i) {
+      const auto& G = N.F[cand[i]];
+      const Vec3 q = ClosestPointOnTriangle(p, N.V[G[0]], N.V[G[1]], N.V[G[2]], nullptr, nullptr);
+      byDistance.push_back({(q - p).squaredNorm(), cand[i]});
+    }
+    std::stable_sort(byDistance.begin(), byDistance.end(),
+                     [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a.first < b.first; });
+    cand.resize(1);
+    for (size_t i = 0; i + 1 < kMaxFallbackFaces; ++i) cand.push_back(byDistance[i].second);
+  }
+  return cand;
+}
+
+// Fills res's point, frame and distance with the limit at (ff, a, b).
+void SetSnapPoint(const LoopSurface& surf, const Vec3& p, int ff, double a, double b, LoopSnapResult& res) {
+  LoopEval e;
+  surf.Evaluate(ff, a, b, e, 1);
+  res.face = ff;
+  res.v = a;
+  res.w = b;
+  res.point = e.P;
+  res.normal = e.N;
+  res.distance = (e.P - p).norm();
+}
+
+// Fallback when the walk did not converge: a local search over FallbackFaces, each from its
+// centroid, keeping the closest optimum found (a converged one at equal distance).
+void FallbackSearch(Local& L, int f, double diag, const LoopSnapParams& sp, LoopSnapResult& res) {
+  const LoopSurface& surf = L.s;
+  res.usedFallback = true;
+  for (int g : FallbackFaces(surf, L.p, f)) {
+    double a = 1.0 / 3, b = 1.0 / 3;
+    int ee;
+    int st = NewtonInFace(L, g, a, b, ee, sp.maxIterations);
+    bool ok = st == 0;
+    if (st == 1) ok = EdgeMinimize(L, g, a, b, ee, sp.maxIterations) && EdgeOptimal(L, g, a, b, ee);
+    Vec3 q = surf.Position(g, a, b);
+    double d = (q - L.p).norm();
+    if (d < res.distance - 1e-15 * diag || (ok && !res.converged && d <= res.distance + 1e-15 * diag)) {
+      SetSnapPoint(surf, L.p, g, a, b, res);
+      res.converged = ok;
+    }
+  }
+}
+
 }  // namespace
 
 LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const EmbreeScene* netScene, int face,
@@ -201,132 +331,16 @@ LoopSnapResult SnapToLoopSurface(const LoopSurface& surf, const Vec3& p, const E
   const double diag = surf.NetDiagonal();
   const double noise = 4 * std::numeric_limits<double>::epsilon() * (p.cwiseAbs().maxCoeff() + diag);
   Local L{surf, p, std::max(sp.relTol * diag, 16 * noise), noise};
-  if (face < 0 || face >= surf.NumFaces()) {
-    // start at the closest point of the control net
-    bool found = false;
-    if (netScene && netScene->Ok()) {
-      auto h = netScene->ClosestPoint(p);
-      if (h.valid) { face = h.face; v = h.u; w = h.v; found = true; }
-    }
-    if (!found) {
-      double best = std::numeric_limits<double>::infinity();
-      const auto& N = surf.Net();
-      for (int f = 0; f < surf.NumFaces(); ++f) {
-        double a, b;
-        Vec3 q = ClosestPointOnTriangle(p, N.V[N.F[f][0]], N.V[N.F[f][1]], N.V[N.F[f][2]], &a, &b);
-        double d = (q - p).squaredNorm();
-        if (d < best) { best = d; face = f; v = a; w = b; }
-      }
-    }
-  }
+  if (face < 0 || face >= surf.NumFaces()) ClosestNetPoint(surf, p, netScene, face, v, w);
   double vv = v, ww = w;
   if (vv < 0) vv = 0;
   if (ww < 0) ww = 0;
   if (vv + ww > 1) { double s = vv + ww; vv /= s; ww /= s; }
-  int f = face, prevFace = -1, prevEdgeFace = -1;
-  int returns = 0;
-  bool done = false;
-  int exitEdge = -1;
-  for (int round = 0; round < 4 * sp.maxIterations && L.iters < sp.maxIterations * 3; ++round) {
-    int st = NewtonInFace(L, f, vv, ww, exitEdge, sp.maxIterations);
-    if (st == 0) { done = true; break; }
-    if (st == 2) break;
-    // moving out through exitEdge
-    int g = surf.FaceAcross(f, exitEdge);
-    // Going back to the face we came from: a ping-pong across their edge (the optimum lies on
-    // it) only when it repeats. A single return is legitimate: a long step near a corner can
-    // overshoot into the neighbour, whose step points back (elephant.off); the second visit
-    // starts from the edge, where the model is good.
-    const bool pingPong = g == prevFace && ++returns > 2;
-    if (g < 0 || pingPong) {
-      // boundary, or ping-pong across the edge: the optimum lies on the edge
-      done = EdgeMinimize(L, f, vv, ww, exitEdge, sp.maxIterations) && EdgeOptimal(L, f, vv, ww, exitEdge);
-      break;
-    }
-    prevEdgeFace = f;
-    prevFace = f;
-    CrossEdge(surf, f, vv, ww, exitEdge);
-    ++L.moves;
-    if (L.moves > 200) break;
-  }
-  (void)prevEdgeFace;
-  auto finish = [&](int ff, double a, double b) {
-    LoopEval e;
-    surf.Evaluate(ff, a, b, e, 1);
-    res.face = ff;
-    res.v = a;
-    res.w = b;
-    res.point = e.P;
-    res.normal = e.N;
-    res.distance = (e.P - p).norm();
-  };
-  finish(f, vv, ww);
+  int f = face;
+  const bool done = WalkToOptimum(L, f, vv, ww, sp);
+  SetSnapPoint(surf, p, f, vv, ww, res);
   res.converged = done;
-  if (!done) {
-    // Fallback: local search over the faces around the current one, each from its centroid
-    // and from the current point's closest corner, keeping the best optimum found.
-    res.usedFallback = true;
-    const auto& N = surf.Net();
-    std::vector<int> cand;
-    // faces within two edge-steps of the current face ...
-    auto add = [&](int g) {
-      if (g >= 0 && std::find(cand.begin(), cand.end(), g) == cand.end()) cand.push_back(g);
-    };
-    cand.push_back(f);
-    for (int r = 0; r < 2; ++r) {
-      size_t n0 = cand.size();
-      for (size_t i = 0; i < n0; ++i)
-        for (int k = 0; k < 3; ++k) add(surf.FaceAcross(cand[i], k));
-    }
-    // ... and every face around its three corners: near a high-valence vertex the closest point
-    // can be several edge-steps away, and Newton ping-pongs between two faces of the fan (the
-    // (v, w) charts meet at an angle there). Found on elephant.off: 14 of 396 points on the
-    // surface re-snapped to 1e-4..1e-3 of the diagonal.
-    for (int k = 0; k < 3; ++k) {
-      const int x = N.F[f][k];
-      std::vector<int> fan{f};
-      for (size_t i = 0; i < fan.size(); ++i)
-        for (int e = 0; e < 3; ++e) {
-          int g = surf.FaceAcross(fan[i], e);
-          if (g < 0 || std::find(fan.begin(), fan.end(), g) != fan.end()) continue;
-          const auto& G = N.F[g];
-          if (G[0] == x || G[1] == x || G[2] == x) fan.push_back(g);
-        }
-      for (int g : fan) add(g);
-    }
-    // Round a vertex of very high valence (a UV sphere's pole of valence 500) the fans hold
-    // hundreds of faces, each a Newton solve whose evaluations subdivide the whole ring: keep the
-    // current face and the kMaxFallbackFaces - 1 others whose control triangles are closest to p
-    // (the closest limit point lies over them: the limit surface stays within the control
-    // polygon's convex hull). Ordinary meshes have fewer candidates and are searched in full.
-    constexpr size_t kMaxFallbackFaces = 48;
-    if (cand.size() > kMaxFallbackFaces) {
-      std::vector<std::pair<double, int>> byDistance;
-      byDistance.reserve(cand.size() - 1);
-      for (size_t i = 1; i < cand.size(); ++i) {
-        const auto& G = N.F[cand[i]];
-        const Vec3 q = ClosestPointOnTriangle(p, N.V[G[0]], N.V[G[1]], N.V[G[2]], nullptr, nullptr);
-        byDistance.push_back({(q - p).squaredNorm(), cand[i]});
-      }
-      std::stable_sort(byDistance.begin(), byDistance.end(),
-                       [](const std::pair<double, int>& a, const std::pair<double, int>& b) { return a.first < b.first; });
-      cand.resize(1);
-      for (size_t i = 0; i + 1 < kMaxFallbackFaces; ++i) cand.push_back(byDistance[i].second);
-    }
-    for (int g : cand) {
-      double a = 1.0 / 3, b = 1.0 / 3;
-      int ee;
-      int st = NewtonInFace(L, g, a, b, ee, sp.maxIterations);
-      bool ok = st == 0;
-      if (st == 1) ok = EdgeMinimize(L, g, a, b, ee, sp.maxIterations) && EdgeOptimal(L, g, a, b, ee);
-      Vec3 q = surf.Position(g, a, b);
-      double d = (q - p).norm();
-      if (d < res.distance - 1e-15 * diag || (ok && !res.converged && d <= res.distance + 1e-15 * diag)) {
-        finish(g, a, b);
-        res.converged = ok;
-      }
-    }
-  }
+  if (!done) FallbackSearch(L, f, diag, sp, res);
   res.iterations = L.iters;
   res.faceMoves = L.moves;
   return res;
