@@ -1,0 +1,122 @@
+// Pairing the faux-edge halves of a MeshLab pure-quad layer into quads (ImportQuads).
+#include "vcg_ext/core/quad_pairing.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <tuple>
+#include <utility>
+
+namespace vcgext {
+
+namespace {
+
+using QuadPairs = std::vector<std::pair<int, int>>;
+
+// Unit normal of half i (zero when degenerate).
+Vec3 HalfNormal(const FauxHalves& h, const QuadData& q, int i) {
+  const auto& t = h.tris[i];
+  Vec3 n = (q.V[t[1]] - q.V[t[0]]).cross(q.V[t[2]] - q.V[t[0]]);
+  double l = n.norm();
+  return l > 0 ? Vec3(n / l) : Vec3::Zero();
+}
+
+// Greedy pairing across each diagonal, by normal agreement (trivial for the usual 1:1 case).
+// Marks the paired halves in `done`; returns the quads of diagonals shared by exactly two.
+QuadPairs PairAcrossDiagonals(const FauxHalves& h, QuadData& out, std::vector<char>& done, int* ambiguousResolved) {
+  // Faux edges keyed by their directed (from, to) pair; the partner has (to, from).
+  std::map<std::pair<int, int>, std::vector<int>> fauxOf;
+  for (size_t i = 0; i < h.tris.size(); ++i) {
+    const auto& t = h.tris[i];
+    const int slot = h.fauxSlot[i];
+    fauxOf[{t[slot], t[(slot + 1) % 3]}].push_back(int(i));
+  }
+  QuadPairs twoByTwo;  // ambiguous diagonals shared by exactly two quads
+  for (const auto& [key, side] : fauxOf) {
+    if (key.first > key.second) continue;  // each diagonal once, from its (low, high) side
+    auto it = fauxOf.find({key.second, key.first});
+    const size_t n2 = it == fauxOf.end() ? 0 : it->second.size();
+    if (n2 == 0) continue;
+    const std::vector<int>& other = it->second;
+    if (side.size() > 1 || n2 > 1)
+      if (ambiguousResolved) ++*ambiguousResolved;
+    std::vector<std::tuple<double, int, int>> cand;
+    for (int i : side)
+      for (int j : other) cand.emplace_back(-HalfNormal(h, out, i).dot(HalfNormal(h, out, j)), i, j);
+    std::sort(cand.begin(), cand.end());
+    if (side.size() == 2 && n2 == 2) twoByTwo.emplace_back(int(out.F.size()), int(out.F.size()) + 1);
+    for (const auto& [score, i, j] : cand) {
+      if (done[i] || done[j]) continue;
+      done[i] = done[j] = 1;
+      const auto& t = h.tris[i];
+      const int k = h.fauxSlot[i];
+      const int a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+      const int d = h.tris[j][(h.fauxSlot[j] + 2) % 3];
+      out.F.push_back({a, d, b, c});  // boundary a→d→b→c (the diagonal a–b removed)
+    }
+  }
+  return twoByTwo;
+}
+
+// Normals can mislead (folded regions); the pairing that is wrong splits the quad fan of a
+// diagonal end into two (a non-manifold vertex). For diagonals shared by two quads, keep the
+// pairing with fewer fans at the diagonal's ends (two passes: groups can share vertices).
+void UntangleSharedDiagonals(const QuadPairs& twoByTwo, QuadData& out) {
+  std::map<int, std::vector<int>> quadsAt;
+  for (const auto& [q1, q2] : twoByTwo)
+    for (int q : {q1, q2})
+      for (int c = 0; c < 4; ++c) quadsAt[out.F[q][c]];
+  for (size_t f = 0; f < out.F.size(); ++f)
+    for (int c = 0; c < 4; ++c) {
+      auto it = quadsAt.find(out.F[f][c]);
+      if (it != quadsAt.end()) it->second.push_back(int(f));
+    }
+  auto fans = [&](int v) {  // components of the corner graph (prev–next neighbour) at v
+    std::map<int, int> parent;
+    std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+    for (int f : quadsAt[v])
+      for (int c = 0; c < 4; ++c)
+        if (out.F[f][c] == v) {
+          int p = out.F[f][(c + 3) % 4], n = out.F[f][(c + 1) % 4];
+          if (!parent.count(p)) parent[p] = p;
+          if (!parent.count(n)) parent[n] = n;
+          parent[find(p)] = find(n);
+        }
+    int k = 0;
+    for (const auto& [x, px] : parent) k += find(x) == x;
+    return k;
+  };
+  auto swapD = [&](int q1, int q2) {  // exchange the d corners, keeping quadsAt current
+    const int d1 = out.F[q1][1], d2 = out.F[q2][1];
+    auto& l1 = quadsAt[d1];
+    auto& l2 = quadsAt[d2];
+    for (int& f : l1) if (f == q1) f = q2;
+    for (int& f : l2) if (f == q2) f = q1;
+    std::swap(out.F[q1][1], out.F[q2][1]);
+  };
+  for (int pass = 0; pass < 2; ++pass)
+    for (const auto& [q1, q2] : twoByTwo) {
+      const int a = out.F[q1][0], b = out.F[q1][2];
+      const int before = fans(a) + fans(b);
+      swapD(q1, q2);
+      if (fans(a) + fans(b) >= before) swapD(q1, q2);
+    }
+}
+
+}  // namespace
+
+std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousResolved) {
+  std::vector<char> done(h.tris.size(), 0);
+  const QuadPairs twoByTwo = PairAcrossDiagonals(h, out, done, ambiguousResolved);
+  if (!twoByTwo.empty()) UntangleSharedDiagonals(twoByTwo, out);
+  int unmatched = 0;
+  for (size_t i = 0; i < h.tris.size(); ++i) unmatched += !done[i];
+  if (unmatched > 0)
+    return "the control layer is not pure-quad: " + std::to_string(unmatched) +
+           " faux edges have no consistently oriented partner triangle";
+  return "";
+}
+
+}  // namespace vcgext
