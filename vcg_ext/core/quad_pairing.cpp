@@ -108,6 +108,7 @@ void UntangleSharedDiagonals(const QuadPairs& twoByTwo, QuadData& out) {
 }  // namespace
 
 std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousResolved) {
+  if (ambiguousResolved) *ambiguousResolved = 0;
   std::vector<char> done(h.tris.size(), 0);
   const QuadPairs twoByTwo = PairAcrossDiagonals(h, out, done, ambiguousResolved);
   if (!twoByTwo.empty()) UntangleSharedDiagonals(twoByTwo, out);

@@ -21,7 +21,7 @@ struct FauxHalves {
 /// (out.V must hold the vertices the halves index). A diagonal shared by several pairs is
 /// ambiguous: greedy matching by the agreement of the halves' normals, then, for diagonals shared
 /// by exactly two quads, the pairing with fewer fans at the diagonal's ends; `ambiguousResolved`
-/// (optional) counts such diagonals. Returns "" or how many halves found no partner.
+/// (optional) is set to the number of such diagonals. Returns "" or how many halves found no partner.
 std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousResolved);
 
 }  // namespace vcgext

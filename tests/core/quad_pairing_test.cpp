@@ -1,0 +1,91 @@
+// PairFauxHalves (vcg_ext/core/quad_pairing.h): the quads of a MeshLab pure-quad layer from its
+// faux-edge triangle halves, including diagonals that several quads share.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "vcg_ext/core/quad_pairing.h"
+
+namespace {
+
+using vcgext::FauxHalves;
+using vcgext::Quad;
+using vcgext::QuadData;
+using vcgext::Vec3;
+
+// Each quad {a, d, b, c} split along a–b, as MeshLab stores it: (a, b, c) and (b, a, d), each with
+// its faux edge in slot 0.
+FauxHalves Split(const std::vector<Quad>& quads) {
+  FauxHalves h;
+  for (const Quad& q : quads) {
+    h.tris.push_back({q[0], q[2], q[3]});
+    h.tris.push_back({q[2], q[0], q[1]});
+    h.fauxSlot.push_back(0);
+    h.fauxSlot.push_back(0);
+  }
+  return h;
+}
+
+std::set<Quad> Canon(const std::vector<Quad>& quads) {
+  std::set<Quad> s;
+  for (Quad q : quads) {
+    std::rotate(q.begin(), std::min_element(q.begin(), q.end()), q.end());
+    s.insert(q);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(QuadPairing, OneToOneDiagonalsGiveTheQuadsBack) {
+  QuadData out;
+  out.V = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), Vec3(2, 1, 0)};
+  const std::vector<Quad> quads = {{0, 1, 4, 3}, {1, 2, 5, 4}};
+  int ambiguous = -1;
+  ASSERT_EQ(vcgext::PairFauxHalves(Split(quads), out, &ambiguous), "");
+  EXPECT_EQ(ambiguous, 0);
+  EXPECT_EQ(Canon(out.F), Canon(quads));
+  for (const Quad& q : out.F)  // orientation kept: the same cyclic order, not reversed
+    EXPECT_TRUE(Canon({q}) == Canon({quads[0]}) || Canon({q}) == Canon({quads[1]}));
+}
+
+TEST(QuadPairing, AHalfWithoutPartnerIsAnError) {
+  QuadData out;
+  out.V = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  FauxHalves h = Split({{0, 1, 2, 3}});
+  h.tris.pop_back();
+  h.fauxSlot.pop_back();
+  const std::string err = vcgext::PairFauxHalves(h, out, nullptr);
+  EXPECT_NE(err.find("1 faux edges have no consistently oriented partner"), std::string::npos) << err;
+  // a partner with the same direction (both halves oriented alike) is no partner either
+  h = Split({{0, 1, 2, 3}});
+  std::swap(h.tris[1][0], h.tris[1][1]);  // (a, b, d): faux edge a→b, as the first half's
+  EXPECT_NE(vcgext::PairFauxHalves(h, out, nullptr).find("2 faux edges"), std::string::npos);
+}
+
+// Two quads with the same opposite corners 0 and 2 (Q1 = 0 1 2 3, Q2 = 0 4 2 5) inside a closed
+// ring of quads round both corners (A, B round 0; C, D round 2): the diagonal 0–2 carries two
+// halves in each direction. The coordinates make the normals mislead (Q1's and Q2's true halves
+// disagree, the crossed ones agree, as in a folded region), so the greedy pairing by normals
+// crosses them; the crossed pairing splits the quad fans at 0 and 2 in two, and the untangling
+// step restores the true quads.
+TEST(QuadPairing, SharedDiagonalMisledByNormalsIsUntangledByTheFans) {
+  QuadData out;
+  out.V = {Vec3(0, 0, 0),    Vec3(1, 1, 0.5), Vec3(2, 0, 0),   Vec3(1, 1, 0),  Vec3(1, -1, 0),
+           Vec3(1, -1, 0.5), Vec3(0, 2, 1),   Vec3(0, -2, 1),  Vec3(2, 2, 1),  Vec3(2, -2, 1)};
+  const std::vector<Quad> q12 = {{0, 1, 2, 3}, {0, 4, 2, 5}};
+  const std::vector<Quad> ring = {{0, 5, 6, 1}, {0, 3, 7, 4}, {2, 4, 8, 3}, {2, 1, 9, 5}};
+  // the premise: the greedy pairing alone would cross Q1 and Q2
+  QuadData alone = out;
+  int ambiguous = -1;
+  ASSERT_EQ(vcgext::PairFauxHalves(Split(q12), alone, &ambiguous), "");
+  EXPECT_EQ(ambiguous, 1);
+  EXPECT_NE(Canon(alone.F), Canon(q12)) << "the normals do not mislead: the test proves nothing";
+  std::vector<Quad> all = q12;
+  all.insert(all.end(), ring.begin(), ring.end());
+  ambiguous = -1;
+  ASSERT_EQ(vcgext::PairFauxHalves(Split(all), out, &ambiguous), "");
+  EXPECT_EQ(ambiguous, 1);
+  EXPECT_EQ(Canon(out.F), Canon(all));
+}
