@@ -102,6 +102,89 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const std::vector<V
   return FitDisplacement(ls, ref, DisplacementBase(ls, ctrl, a, minSegments), maxDist, p, a);
 }
 
+namespace {
+// One point-to-plane row per reference vertex: its foot point's displacement along the displaced
+// surface's normal m must close the gap to it (rowLen 0: no row).
+struct DisplacementRows {
+  static constexpr int kMaxRow = 3 * DisplacedModel::kMaxTerms;  // 3 triangle corners
+  std::vector<std::array<int, kMaxRow>> idx;
+  std::vector<std::array<double, kMaxRow>> w;
+  std::vector<int> len;
+  Eigen::VectorXd rhs, dist;  // per row: the gap along m; per reference vertex: its distance
+  explicit DisplacementRows(int n) : idx(n), w(n), len(n), rhs(n), dist(n) {}
+};
+
+// The rows at the displaced mesh `dm` (displacements d): foot points of the reference vertices,
+// exactly the reported error's closest points. Returns false when dm has no scene.
+bool ProjectReference(const DisplacedModel& model, const LimitTessellation& base, const TriData& dm,
+                      const TriData& ref, double maxDist, DisplacementRows& rows) {
+  EmbreeScene scene(dm);
+  if (!scene.Ok()) return false;
+  const int nR = int(ref.V.size());
+#pragma omp parallel
+  {
+    int hint = -1;
+#pragma omp for schedule(static)
+    for (int r = 0; r < nR; ++r) {
+      const Vec3& x = ref.V[r];
+      const EmbreeScene::Hit h = scene.ClosestPoint(x, std::numeric_limits<double>::infinity(), hint);
+      if (h.valid) hint = h.face;
+      rows.len[r] = 0;
+      rows.dist[r] = h.valid ? (h.point - x).norm() : 0.0;
+      // no row for reference parts farther than the bake's range (not covered by the control
+      // mesh, outliers): the texels must not be pulled there (they stay within ±maxDist)
+      if (!h.valid || rows.dist[r] > maxDist) continue;
+      const auto& tri = dm.F[h.face];
+      const double b[3] = {1 - h.u - h.v, h.u, h.v};
+      Vec3 m = (dm.V[tri[1]] - dm.V[tri[0]]).cross(dm.V[tri[2]] - dm.V[tri[0]]);
+      if (!(m.norm() > 0)) m = b[0] * base.normal[tri[0]] + b[1] * base.normal[tri[1]] + b[2] * base.normal[tri[2]];
+      if (!(m.norm() > 0)) continue;
+      m.normalize();
+      // Point-to-plane row: the foot's displacement along m must close the gap to x.
+      Vec3 L = Vec3::Zero();
+      int len = 0;
+      for (int c = 0; c < 3; ++c) {
+        const int k = tri[c];
+        L += b[c] * base.mesh.V[k];
+        const double ck = b[c] * base.normal[k].dot(m);
+        for (int q = 0; q < model.Terms(k); ++q) {
+          rows.idx[r][len] = model.Unknowns(k)[q];
+          rows.w[r][len] = ck * model.Weights(k)[q];
+          ++len;
+        }
+      }
+      rows.len[r] = len;
+      rows.rhs[r] = (x - L).dot(m);
+    }
+  }
+  return true;
+}
+
+// Normal equations (AᵀA + w_a I) d = Aᵀb + w_a d0, solved into dn. False when the solve fails.
+bool SolveAnchored(const DisplacementRows& rows, const Eigen::VectorXd& d0, double anchorWeight,
+                   Eigen::VectorXd& dn) {
+  const int nX = int(d0.size()), nR = int(rows.len.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  size_t entries = size_t(nX);
+  for (int r = 0; r < nR; ++r) entries += size_t(rows.len[r]) * rows.len[r];
+  trip.reserve(entries);
+  Eigen::VectorXd rhs = anchorWeight * d0;
+  for (int r = 0; r < nR; ++r)
+    for (int s1 = 0; s1 < rows.len[r]; ++s1) {
+      rhs[rows.idx[r][s1]] += rows.w[r][s1] * rows.rhs[r];
+      for (int s2 = 0; s2 < rows.len[r]; ++s2)
+        trip.emplace_back(rows.idx[r][s1], rows.idx[r][s2], rows.w[r][s1] * rows.w[r][s2]);
+    }
+  for (int x = 0; x < nX; ++x) trip.emplace_back(x, x, anchorWeight);
+  Eigen::SparseMatrix<double> Nm(nX, nX);
+  Nm.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Nm);
+  if (solver.info() != Eigen::Success) return false;
+  dn = solver.solve(rhs);
+  return solver.info() == Eigen::Success && dn.allFinite();
+}
+}  // namespace
+
 DisplacementFitStats FitDisplacement(const LimitSurface& ls, const TriData& ref, const LimitTessellation& base,
                                      double maxDist, const DisplacementFitParams& p, DisplacementAtlas& a) {
   DisplacementFitStats st;
@@ -111,61 +194,17 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const TriData& ref,
   // the atlas must be a layout of this surface (BakeDisplacement's)
   if (!LayoutOk(a, nF)) return st;
   const DisplacedModel model(ls, a, base);
-  const int nX = model.NumUnknowns();
   // Point-sampled (ray) values: the anchor of every texel.
   const Eigen::VectorXd d0 = model.Space().Gather(a);
   Eigen::VectorXd d = d0;
   const int nR = int(ref.V.size());
-  constexpr int kMaxRow = 3 * DisplacedModel::kMaxTerms;  // 3 triangle corners
-  std::vector<std::array<int, kMaxRow>> rowIdx(nR);
-  std::vector<std::array<double, kMaxRow>> rowW(nR);
-  std::vector<int> rowLen(nR);
-  Eigen::VectorXd rhs0(nR), dist(nR);
+  DisplacementRows rows(nR);
   Eigen::VectorXd best = d;
   double bestRms = std::numeric_limits<double>::infinity();
   for (int it = 0; it <= p.iterations; ++it) {
-    // Foot points on the current displaced mesh: exactly the reported error's closest points.
-    const TriData dm = model.Mesh(d);
-    EmbreeScene scene(dm);
-    if (!scene.Ok()) break;
-#pragma omp parallel
-    {
-      int hint = -1;
-#pragma omp for schedule(static)
-      for (int r = 0; r < nR; ++r) {
-        const Vec3& x = ref.V[r];
-        const EmbreeScene::Hit h = scene.ClosestPoint(x, std::numeric_limits<double>::infinity(), hint);
-        if (h.valid) hint = h.face;
-        rowLen[r] = 0;
-        dist[r] = h.valid ? (h.point - x).norm() : 0.0;
-        // no row for reference parts farther than the bake's range (not covered by the control
-        // mesh, outliers): the texels must not be pulled there (they stay within ±maxDist)
-        if (!h.valid || dist[r] > maxDist) continue;
-        const auto& tri = dm.F[h.face];
-        const double b[3] = {1 - h.u - h.v, h.u, h.v};
-        Vec3 m = (dm.V[tri[1]] - dm.V[tri[0]]).cross(dm.V[tri[2]] - dm.V[tri[0]]);
-        if (!(m.norm() > 0)) m = b[0] * base.normal[tri[0]] + b[1] * base.normal[tri[1]] + b[2] * base.normal[tri[2]];
-        if (!(m.norm() > 0)) continue;
-        m.normalize();
-        // Point-to-plane row: the foot's displacement along m must close the gap to x.
-        Vec3 L = Vec3::Zero();
-        int len = 0;
-        for (int c = 0; c < 3; ++c) {
-          const int k = tri[c];
-          L += b[c] * base.mesh.V[k];
-          const double ck = b[c] * base.normal[k].dot(m);
-          for (int q = 0; q < model.Terms(k); ++q) {
-            rowIdx[r][len] = model.Unknowns(k)[q];
-            rowW[r][len] = ck * model.Weights(k)[q];
-            ++len;
-          }
-        }
-        rowLen[r] = len;
-        rhs0[r] = (x - L).dot(m);
-      }
-    }
+    if (!ProjectReference(model, base, model.Mesh(d), ref, maxDist, rows)) break;
     double sum = 0;
-    for (int r = 0; r < nR; ++r) sum += dist[r] * dist[r];
+    for (int r = 0; r < nR; ++r) sum += rows.dist[r] * rows.dist[r];
     const double rms = std::sqrt(sum / nR);
     if (it == 0) {
       st.rmsBefore = rms;
@@ -176,25 +215,8 @@ DisplacementFitStats FitDisplacement(const LimitSurface& ls, const TriData& ref,
     best = d;
     st.iterations = it;
     if (it == p.iterations) break;
-    // Normal equations (AᵀA + w_a I) d = Aᵀb + w_a d0.
-    std::vector<Eigen::Triplet<double>> trip;
-    size_t entries = size_t(nX);
-    for (int r = 0; r < nR; ++r) entries += size_t(rowLen[r]) * rowLen[r];
-    trip.reserve(entries);
-    Eigen::VectorXd rhs = p.anchorWeight * d0;
-    for (int r = 0; r < nR; ++r)
-      for (int s1 = 0; s1 < rowLen[r]; ++s1) {
-        rhs[rowIdx[r][s1]] += rowW[r][s1] * rhs0[r];
-        for (int s2 = 0; s2 < rowLen[r]; ++s2)
-          trip.emplace_back(rowIdx[r][s1], rowIdx[r][s2], rowW[r][s1] * rowW[r][s2]);
-      }
-    for (int x = 0; x < nX; ++x) trip.emplace_back(x, x, p.anchorWeight);
-    Eigen::SparseMatrix<double> Nm(nX, nX);
-    Nm.setFromTriplets(trip.begin(), trip.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Nm);
-    if (solver.info() != Eigen::Success) break;
-    Eigen::VectorXd dn = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !dn.allFinite()) break;
+    Eigen::VectorXd dn;
+    if (!SolveAnchored(rows, d0, p.anchorWeight, dn)) break;
     d = dn.cwiseMax(-maxDist).cwiseMin(maxDist);
   }
   st.rmsAfter = std::isfinite(bestRms) ? bestRms : st.rmsBefore;
