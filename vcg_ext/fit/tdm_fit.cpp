@@ -52,16 +52,14 @@ int EntryPos(const SpMat& P, int row, int col) {
   return (it != e && *it == row) ? int(it - P.innerIndexPtr()) : -1;
 }
 
-// The system's fixed sparsity: P (nV×nV) is the union over faces of support(f)², and the 3nV
-// system H has pattern P in each of its 3×3 blocks.
+// The system's fixed sparsity: P (nV×nV) is the union over faces of support(f)² (the 3nV system
+// has pattern P in each of its 3×3 blocks: BlockPattern).
 struct TdmPattern {
   std::vector<std::vector<int>> sup;  // per face: its control points, sorted
   SpMat P;
-  int nnzP = 0;
   std::vector<std::vector<int>> pos;  // per face: position in P of (sup[a], sup[b]), a-major
   std::vector<int> diagPos;           // per vertex: position of (v, v) in P
   std::vector<std::pair<int, double>> lapEntries;  // LᵀL's entries (position in P, value)
-  SpMat H;  // columns ordered c-major, rows r-major within a column
 };
 
 // Face supports (stencil indices are the patch's control points), widened by any fixed row's
@@ -99,7 +97,7 @@ SpMat SupportPattern(int nV, const std::vector<std::vector<int>>& sup) {
   return P;
 }
 
-// H: pattern P in each of the 3×3 blocks.
+// H: pattern P in each of the 3×3 blocks; columns ordered c-major, rows r-major within a column.
 SpMat BlockPattern(const SpMat& P) {
   const int nV = int(P.rows());
   SpMat H(3 * nV, 3 * nV);
@@ -121,7 +119,6 @@ TdmPattern BuildPattern(const LimitSurface& ls, const std::vector<StencilRow>& r
   TdmPattern pat;
   pat.sup = FaceSupports(ls, rows, rowFace);
   pat.P = SupportPattern(nV, pat.sup);
-  pat.nnzP = int(pat.P.nonZeros());
   pat.pos.resize(nF);
   for (int f = 0; f < nF; ++f) {
     const auto& s = pat.sup[f];
@@ -139,7 +136,6 @@ TdmPattern BuildPattern(const LimitSurface& ls, const std::vector<StencilRow>& r
         const int q = EntryPos(pat.P, int(it.row()), int(it.col()));
         if (q >= 0) pat.lapEntries.emplace_back(q, it.value());
       }
-  pat.H = BlockPattern(pat.P);
   return pat;
 }
 
@@ -148,7 +144,6 @@ struct TdmRows {
   std::vector<Constraint> cons;
   std::vector<LimitStencil> dataSt;       // per reference vertex: stencil at its foot point
   std::vector<int> dataFace;              // per reference vertex: its foot point's face (-1: none yet)
-  std::vector<Eigen::Vector2d> dataUV;    // per reference vertex: its foot point
 };
 
 // Squared distances summed in row order (the sum does not depend on thread scheduling).
@@ -272,7 +267,6 @@ SquaredSum FootPointRows(const LimitSurface& ls, const std::vector<Vec3>& ctrl, 
       if (!(n.norm() > 0)) n = tess.normal[tess.mesh.F[h.face][0]];
       if (!(n.norm() > 0)) continue;
       R.dataFace[i] = f;
-      R.dataUV[i] = uv;
       c.idx = st.index.data();
       c.w = st.P.data();
       c.n = st.Size();
@@ -476,16 +470,16 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   const int dataStride = p.maxDataRows > 0 && nRef > p.maxDataRows ? (nRef + p.maxDataRows - 1) / p.maxDataRows : 1;
   const auto refN = FaceNormals(ref);
   TdmPattern pat = BuildPattern(ls, rows, rowFace, LtL, p.smoothWeight > 0);
-  SpdSolver solver(int(pat.H.rows()));
-  solver.analyzePattern(pat.H);
+  SpMat H = BlockPattern(pat.P);
+  SpdSolver solver(int(H.rows()));
+  solver.analyzePattern(H);
 
   TdmRows R;
   R.cons.resize(size_t(nR) + nRef);
   R.dataSt.resize(nRef);
   R.dataFace.assign(nRef, -1);
-  R.dataUV.assign(nRef, Eigen::Vector2d(0.5, 0.5));
   TdmNormalEquations ne;
-  for (auto& v : ne.val) v.resize(pat.nnzP);
+  for (auto& v : ne.val) v.resize(pat.P.nonZeros());
   ne.rhs.resize(3 * nV);
   IterateChoice ch;
   ch.best = X;
@@ -520,9 +514,9 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
 
     auto ts = Clock::now();
     Assemble(pat, R, rowFace, nR, nV, p.tangentWeight, ne);
-    const double lambda = FillSystem(pat, p, ch.dampingScale, nV, ne, pat.H);
+    const double lambda = FillSystem(pat, p, ch.dampingScale, nV, ne, H);
     for (int c = 0; c < 3; ++c) ne.rhs.segment(c * nV, nV) += lambda * X.col(c);
-    solver.factorize(pat.H);
+    solver.factorize(H);
     if (solver.info() != Eigen::Success) { res.secondsSolve += Since(ts); break; }
     Eigen::VectorXd sol = solver.solve(ne.rhs);
     res.secondsSolve += Since(ts);
