@@ -1,12 +1,17 @@
 // bench_decimate: the working resolution M' (vcgext::WorkingResolution, paper §4) of a mesh, on
 // one thread and split in two halves on two threads (WorkingResolutionParams::splitMinFaces):
-// wall time and the distance of the input's vertices to M' (RMS / max, ‰ of the bbox diagonal).
+// wall and CPU time (all threads; steadier than wall time on a shared machine) and the distance
+// of the input's vertices to M' (RMS / max, ‰ of the bbox diagonal).
 //
-// Usage: bench_decimate MESH [maxFaces=100000] [runs=3]
+// With "compare", also with vcglib's own priority evaluation (WorkingResolutionParams::vcgPriority;
+// the same meshes, the time the one-pass evaluation saves).
+//
+// Usage: bench_decimate MESH [maxFaces=100000] [runs=3] [compare]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -20,7 +25,7 @@ using namespace vcgext;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_decimate MESH [maxFaces=100000] [runs=3]\n");
+    std::fprintf(stderr, "usage: bench_decimate MESH [maxFaces=100000] [runs=3] [compare]\n");
     return 2;
   }
   TMesh m;
@@ -37,24 +42,40 @@ int main(int argc, char** argv) {
   }
   const int maxFaces = argc > 2 ? std::atoi(argv[2]) : 100000;
   const int runs = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
+  const bool compare = argc > 4 && std::string(argv[4]) == "compare";
   const double pm = 1000.0 / BBoxDiagonal(d.V);
   std::printf("%s: %zu triangles -> %d\n", argv[1], d.F.size(), maxFaces);
-  for (int split : {0, 1}) {
-    std::vector<double> secs;
+  // Each configuration: split in two halves or not, one-pass priority or vcglib's own. Runs are
+  // interleaved (run k of every configuration, then run k + 1) so that load hits them alike.
+  struct Config {
+    bool split, vcgPriority;
+    std::vector<double> secs, cpu;
     DecimateResult r;
-    for (int k = 0; k < runs; ++k) {
+  };
+  std::vector<Config> configs;
+  for (int split : {0, 1})
+    for (int vcg = 0; vcg <= (compare ? 1 : 0); ++vcg) configs.push_back({split == 1, vcg == 1, {}, {}, {}});
+  for (int k = 0; k < runs; ++k)
+    for (Config& c : configs) {
       WorkingResolutionParams p;
       p.maxFaces = maxFaces + k;  // a new request each run (no reuse of the previous result)
-      p.splitMinFaces = split ? 1 : 0;
+      p.splitMinFaces = c.split ? 1 : 0;
+      p.vcgPriority = c.vcgPriority;
       const auto t0 = std::chrono::steady_clock::now();
-      r = WorkingResolution(d, p);
-      secs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      const std::clock_t c0 = std::clock();
+      c.r = WorkingResolution(d, p);
+      c.secs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      c.cpu.push_back(double(std::clock() - c0) / CLOCKS_PER_SEC);
     }
-    std::sort(secs.begin(), secs.end());
-    const auto e = ReferenceToSurfaceError(d, r.mesh);
-    std::printf("  %-26s %7zu faces  %6.2f s (median of %d)  input -> M' RMS %.4f max %.4f permille\n",
-                split && r.split ? "two threads (split)" : "one thread", r.mesh.F.size(), secs[secs.size() / 2], runs,
-                e.first * pm, e.second * pm);
+  for (Config& c : configs) {
+    std::sort(c.secs.begin(), c.secs.end());
+    std::sort(c.cpu.begin(), c.cpu.end());
+    const auto e = ReferenceToSurfaceError(d, c.r.mesh);
+    const std::string name = std::string(c.split && c.r.split ? "two threads (split)" : "one thread") +
+                             (c.vcgPriority ? ", vcglib priority" : "");
+    std::printf("  %-36s %7zu faces  %6.2f s wall, %6.2f s CPU (medians of %d)  input -> M' RMS %.4f max %.4f permille\n",
+                name.c_str(), c.r.mesh.F.size(), c.secs[c.secs.size() / 2], c.cpu[c.cpu.size() / 2], runs, e.first * pm,
+                e.second * pm);
   }
   return 0;
 }

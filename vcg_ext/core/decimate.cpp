@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <unordered_map>
@@ -47,15 +50,152 @@ class DMesh : public vcg::tri::TriMesh<std::vector<DVertex>, std::vector<DFace>>
 };
 
 using DPair = vcg::tri::BasicVertexPair<DVertex>;
+// vcglib allocates every candidate collapse with new and deletes it when it is popped or found
+// out of date: millions per dense decimation, and malloc/free were ~10 % of its time (perf,
+// 2026-12-04). While RunCollapse runs (the pool lives in its scope, on its thread), the candidates
+// come from this free list of fixed-size blocks, released when the decimation ends. Addresses do
+// not enter the heap's order (priority only), so the result does not change.
+template <class T>
+class BlockPool {
+ public:
+  BlockPool() { Current() = this; }
+  ~BlockPool() { Current() = nullptr; }
+  BlockPool(const BlockPool&) = delete;
+  BlockPool& operator=(const BlockPool&) = delete;
+  static void* Allocate(size_t n) {
+    BlockPool* p = Current();
+    return p && n == sizeof(T) ? p->Get() : ::operator new(n);
+  }
+  static void Release(void* q, size_t n) {
+    BlockPool* p = Current();
+    if (p && n == sizeof(T))
+      p->Put(q);
+    else
+      ::operator delete(q);
+  }
+
+ private:
+  union Block {
+    Block* next;
+    alignas(T) unsigned char bytes[sizeof(T)];
+  };
+  static constexpr size_t kChunk = size_t(1) << 14;
+  static BlockPool*& Current() {
+    thread_local BlockPool* current = nullptr;
+    return current;
+  }
+  void* Get() {
+    if (free_) {
+      Block* b = free_;
+      free_ = b->next;
+      return b;
+    }
+    if (chunks_.empty() || used_ == kChunk) {
+      chunks_.emplace_back(new Block[kChunk]);
+      used_ = 0;
+    }
+    return &chunks_.back()[used_++];
+  }
+  void Put(void* q) {
+    Block* b = static_cast<Block*>(q);
+    b->next = free_;
+    free_ = b;
+  }
+  std::vector<std::unique_ptr<Block[]>> chunks_;
+  size_t used_ = 0;
+  Block* free_ = nullptr;
+};
+
 // One collapse type per concurrent decimation: vcglib keeps its heap's validity counter
 // (TriEdgeCollapse::GlobalMark) in a static of the collapse type, so the two halves of a split
 // decimation (DecimateSplit) each need their own type, K = 0 and 1.
-template <int K>
-class DCollapseT
-    : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K>, vcg::tri::QInfoStandard<DVertex>> {
+//
+// The priority of a candidate collapse is vcglib's TriEdgeCollapseQuadric::ComputePriority,
+// evaluated the same way in one pass (SinglePassPriority): vcglib's version collects the old
+// normals of the faces around the edge into a std::vector allocated per candidate, moves both
+// vertices to the new position, walks the faces again and moves the vertices back — a 1.2 M
+// triangle decimation evaluates ~10 M candidates, and that allocation and second walk were a
+// quarter of its time (perf, 2026-12-04). Here each face's new corners are read beside its
+// unit normal, which each face keeps in its N() (set before the collapses, refreshed around the
+// kept vertex after each collapse, the only time corners move; nothing else of the collapse reads
+// N()); every value is computed by the same expressions in the same order, so the priorities, and
+// the decimated mesh, are bit-identical (tests/core/decimate_test.cpp compares
+// against vcglib's own collapse: VcgPriority = true, WorkingResolutionParams::vcgPriority).
+template <int K, bool VcgPriority>
+class DCollapseT : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K, VcgPriority>,
+                                                            vcg::tri::QInfoStandard<DVertex>> {
  public:
-  using Base = vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K>, vcg::tri::QInfoStandard<DVertex>>;
-  DCollapseT(const DPair& p, int i, vcg::BaseParameterClass* pp) : Base(p, i, pp) {}
+  using Base =
+      vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K, VcgPriority>, vcg::tri::QInfoStandard<DVertex>>;
+  using Coord = vcg::Point3d;
+  static constexpr bool kVcgPriority = VcgPriority;
+  // Base's default constructor: its other one would evaluate vcglib's priority first.
+  DCollapseT(const DPair& p, int i, vcg::BaseParameterClass* pp) {
+    this->localMark = i;
+    this->pos = p;
+    this->_priority = SinglePassPriority(pp);
+  }
+  double ComputePriority(vcg::BaseParameterClass* pp) override { return SinglePassPriority(pp); }
+  static void* operator new(size_t n) { return BlockPool<DCollapseT>::Allocate(n); }
+  static void operator delete(void* q, size_t n) { BlockPool<DCollapseT>::Release(q, n); }
+  void Execute(DMesh& m, vcg::BaseParameterClass* pp) override {
+    Base::Execute(m, pp);
+    if (!VcgPriority) RefreshNormals(this->pos.V(1));
+  }
+  /// Before Init: every face's unit normal in its N(), as ScanFan reads it.
+  static void PrepareNormals(DMesh& m) {
+    for (DFace& f : m.face)
+      if (!f.IsD()) f.N() = UnitNormal(f.cP(0), f.cP(1), f.cP(2));
+  }
+
+ private:
+  // The options QuadricCollapse sets (both checks, nothing else); any other set is vcglib's.
+  static bool Supported(const vcg::tri::TriEdgeCollapseQuadricParameter& q) {
+    return q.NormalCheck && q.QualityCheck && !q.AreaCheck && !q.HardQualityCheck && !q.HardNormalCheck &&
+           !q.UseVertexWeight;
+  }
+  // vcg::NormalizedTriangleNormal's expression.
+  static Coord UnitNormal(const Coord& a, const Coord& b, const Coord& c) { return ((b - a) ^ (c - a)).Normalize(); }
+  static void RefreshNormals(DVertex* v) {
+    for (vcg::face::VFIterator<DFace> x(v); !x.End(); ++x) x.F()->N() = UnitNormal(x.F()->cP(0), x.F()->cP(1), x.F()->cP(2));
+  }
+
+  // Over the faces of `from` that do not contain `other`: the smallest cosine between a face's
+  // normal before and after `from` moves to `to`, and the smallest quality after.
+  static void ScanFan(DVertex* from, DVertex* other, const Coord& to, double& minCos, double& minQual) {
+    for (vcg::face::VFIterator<DFace> x(from); !x.End(); ++x) {
+      if (x.V1() == other || x.V2() == other) continue;
+      const DFace& f = *x.F();
+      const Coord p0 = f.cP(0), p1 = f.cP(1), p2 = f.cP(2);
+      const Coord q0 = f.cV(0) == from ? to : p0, q1 = f.cV(1) == from ? to : p1, q2 = f.cV(2) == from ? to : p2;
+      const Coord& before = f.cN();  // UnitNormal(p0, p1, p2), kept up to date
+      const Coord after = UnitNormal(q0, q1, q2);
+      minCos = std::min(minCos, after.dot(before));
+      minQual = std::min(minQual, vcg::Quality(q0, q1, q2));
+    }
+  }
+
+  double SinglePassPriority(vcg::BaseParameterClass* base) {
+    auto* pp = static_cast<vcg::tri::TriEdgeCollapseQuadricParameter*>(base);
+    if (VcgPriority || !Supported(*pp)) return Base::ComputePriority(base);
+    DVertex* v0 = this->pos.V(0);
+    DVertex* v1 = this->pos.V(1);
+    this->ComputePosition(base);
+    const Coord to = this->optimalPos;
+    double minCos = std::numeric_limits<double>::max(), newQual = std::numeric_limits<double>::max();
+    ScanFan(v0, v1, to, minCos, newQual);
+    ScanFan(v1, v0, to, minCos, newQual);
+    vcg::math::Quadric<double> qq = v0->Qd();
+    qq += v1->Qd();
+    double quadErr = pp->ScaleFactor * qq.Apply(to);
+    if (newQual > pp->QualityThr) newQual = pp->QualityThr;
+    if (minCos > pp->CosineThr) minCos = pp->CosineThr;
+    minCos = std::fabs((minCos + 1.0) / 2.0);
+    quadErr = std::max(quadErr, pp->QuadricEpsilon);
+    if (quadErr <= pp->QuadricEpsilon) quadErr *= vcg::Distance(v0->cP(), v1->cP());
+    this->_priority = quadErr / (newQual * minCos);
+    return this->_priority;
+  }
 };
 
 // vcglib hands out per-vertex user bits from a static counter of the vertex type
@@ -80,6 +220,7 @@ std::uint64_t Fingerprint(const TriData& m, const WorkingResolutionParams& p) {
   eat(&p.maxFaces, sizeof p.maxFaces);
   eat(&p.preserveBoundary, sizeof p.preserveBoundary);
   eat(&p.splitMinFaces, sizeof p.splitMinFaces);
+  eat(&p.vcgPriority, sizeof p.vcgPriority);
   return h;
 }
 
@@ -270,8 +411,8 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
 namespace {
 // vcglib's quadric edge collapse of `d` down to `target` faces. Progress (when cb) runs from
 // `from` to `to` percent.
-template <int K>
-void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackPos* cb, int from = 0, int to = 100) {
+template <class Collapse>
+void RunCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackPos* cb, int from, int to) {
   vcg::tri::TriEdgeCollapseQuadricParameter qp;
   qp.PreserveTopology = true;
   qp.FastPreserveBoundary = preserveBoundary;  // what MeshLab's filter uses for "Preserve Boundary"
@@ -279,13 +420,15 @@ void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackP
   qp.QualityCheck = true;
   qp.NormalCheck = true;
   qp.NormalThrRad = M_PI / 4.0;
+  BlockPool<Collapse> pool;  // before the session: it deletes its remaining candidates into the pool
   vcg::LocalOptimization<DMesh> session(d, &qp);
   {
     std::lock_guard<std::mutex> g(BitFlagLock());
     vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
     vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
     vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
-    session.Init<DCollapseT<K>>();
+    if (!Collapse::kVcgPriority) Collapse::PrepareNormals(d);
+    session.Init<Collapse>();
   }
   session.SetTargetSimplices(target);
   session.SetTimeBudget(0.1f);  // returns ten times a second for progress
@@ -294,7 +437,16 @@ void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackP
     if (cb)
       cb(from + (to - from) * (100 - 100 * (d.fn - target) / std::max(1, toDelete)) / 100,
          "Working resolution: decimating");
-  session.Finalize<DCollapseT<K>>();
+  session.Finalize<Collapse>();
+}
+// With the one-pass priority, or with vcglib's own (`vcgPriority`, the tests' reference).
+template <int K>
+void QuadricCollapse(DMesh& d, int target, bool preserveBoundary, bool vcgPriority, vcg::CallBackPos* cb, int from = 0,
+                     int to = 100) {
+  if (vcgPriority)
+    RunCollapse<DCollapseT<K, true>>(d, target, preserveBoundary, cb, from, to);
+  else
+    RunCollapse<DCollapseT<K, false>>(d, target, preserveBoundary, cb, from, to);
 }
 
 // Halves of `m` at the median face centroid along the longest bbox axis. A vertex used by both
@@ -377,11 +529,11 @@ void DecimateSplit(const TriData& m, const WorkingResolutionParams& p, vcg::Call
   SplitInTwo(m, half);
   const double share = 1.2 * p.maxFaces / double(m.F.size());
   const int target0 = std::max(1, int(share * half[0].fn)), target1 = std::max(1, int(share * half[1].fn));
-  std::thread other([&] { QuadricCollapse<1>(half[1], target1, true, nullptr); });
-  QuadricCollapse<0>(half[0], target0, true, cb, 0, 90);  // progress from this thread only
+  std::thread other([&] { QuadricCollapse<1>(half[1], target1, true, p.vcgPriority, nullptr); });
+  QuadricCollapse<0>(half[0], target0, true, p.vcgPriority, cb, 0, 90);  // progress from this thread only
   other.join();
   WeldHalves(half, d);
-  QuadricCollapse<0>(d, p.maxFaces, p.preserveBoundary, cb, 90, 100);
+  QuadricCollapse<0>(d, p.maxFaces, p.preserveBoundary, p.vcgPriority, cb, 90, 100);
 }
 
 DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
@@ -394,7 +546,7 @@ DecimateResult Decimate(const TriData& m, const WorkingResolutionParams& p, vcg:
     r.split = true;
   } else {
     ToDMesh(m, d);
-    QuadricCollapse<0>(d, p.maxFaces, p.preserveBoundary, cb);
+    QuadricCollapse<0>(d, p.maxFaces, p.preserveBoundary, p.vcgPriority, cb);
   }
   r.mesh = FromDMesh(d);
   r.decimated = true;

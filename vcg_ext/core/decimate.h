@@ -33,6 +33,10 @@ struct WorkingResolutionParams {
   /// decimate.cpp; the same topology guarantees). Below it one thread is fast enough (bunny00's
   /// 150k triangles: 1.5 s). 0 = always one thread.
   int splitMinFaces = 200000;
+  /// Evaluate each candidate collapse with vcglib's own TriEdgeCollapseQuadric::ComputePriority
+  /// instead of the one-pass evaluation (decimate.cpp, DCollapseT): the same values, slower; the
+  /// reference the tests compare against.
+  bool vcgPriority = false;
 };
 
 struct DecimateResult {
