@@ -77,6 +77,54 @@ TEST(EmbreeScene, ClosestPointWithAnyHintMatchesBruteForce) {
   }
 }
 
+// The callback skips a triangle whose box is farther than the best distance so far (embree_scene.cpp,
+// PointQueryFunc): the answer must be the brute-force one bit for bit (same face, same point), also
+// for query points within 1e-12 of the surface, where the skip's rounding margin matters, and on a
+// sphere far from the origin. The brute force uses the float-rounded query point, as Embree does.
+TEST(EmbreeScene, ClosestPointIsExactlyTheBruteForceAnswerNearTheSurface) {
+  for (double offset : {0.0, 1e4}) {
+    auto m = testsupport::Icosphere(4);
+    for (auto& v : m.V) v[0] += offset;
+    vcgext::EmbreeScene s(m);
+    ASSERT_TRUE(s.Ok());
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> F(0, int(m.F.size()) - 1);
+    std::uniform_real_distribution<double> U(0.05, 0.9), E(-12, -1);
+    int exact = 0;
+    for (int it = 0; it < 400; ++it) {
+      const auto& f = m.F[F(rng)];
+      const double a = U(rng), b = (1 - a) * U(rng);
+      const Vec3 n = (m.V[f[1]] - m.V[f[0]]).cross(m.V[f[2]] - m.V[f[0]]).normalized();
+      const Vec3 on = (1 - a - b) * m.V[f[0]] + a * m.V[f[1]] + b * m.V[f[2]];
+      const Vec3 q = on + (it % 2 ? 1 : -1) * std::pow(10.0, E(rng)) * n;
+      // Embree's query point is float. volatile: the rounding must happen
+      // (without it this test saw the unrounded point reach the brute force).
+      volatile float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
+      const Vec3 p(qf[0], qf[1], qf[2]);
+      double best = std::numeric_limits<double>::infinity();
+      int bestFace = -1;
+      Vec3 bestPoint;
+      for (size_t g = 0; g < m.F.size(); ++g) {
+        const auto& t = m.F[g];
+        const Vec3 c = vcgext::ClosestPointOnTriangle(p, m.V[t[0]], m.V[t[1]], m.V[t[2]]);
+        if ((c - p).squaredNorm() < best) {
+          best = (c - p).squaredNorm();
+          bestFace = int(g);
+          bestPoint = c;
+        }
+      }
+      const auto h = s.ClosestPoint(p);
+      ASSERT_TRUE(h.valid);
+      EXPECT_EQ((h.point - p).squaredNorm(), best) << it << " offset " << offset;
+      if (h.face == bestFace) {
+        EXPECT_EQ(h.point, bestPoint) << it;
+        ++exact;
+      }
+    }
+    EXPECT_GT(exact, 390) << "offset " << offset;  // other faces only on exact ties (a shared edge)
+  }
+}
+
 // NearestOnLine (the projection phi with fewer rays) against a brute-force double-precision
 // line/triangle search, on two nested spheres (several sheets on most lines), for every guess of
 // the side, several windows and ray lengths: the guess and the window may only change the ray
