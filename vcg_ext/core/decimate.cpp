@@ -116,9 +116,9 @@ class BlockPool {
 // vertices to the new position, walks the faces again and moves the vertices back — a 1.2 M
 // triangle decimation evaluates ~10 M candidates, and that allocation and second walk were a
 // quarter of its time (perf, 2026-12-04). Here each face's new corners are read beside its
-// unit normal, which each face keeps in its N() (set before the collapses, refreshed around the
-// kept vertex after each collapse, the only time corners move; nothing else of the collapse reads
-// N()); every value is computed by the same expressions in the same order, so the priorities, and
+// unit normal, which each face keeps in its N() (set by RunCollapse's PerFaceNormalized — the
+// same expression as vcg::NormalizedTriangleNormal — and refreshed around the kept vertex after
+// each collapse, the only time corners move; nothing else of the collapse reads N()); every value is computed by the same expressions in the same order, so the priorities, and
 // the decimated mesh, are bit-identical (tests/core/decimate_test.cpp compares
 // against vcglib's own collapse: VcgPriority = true, WorkingResolutionParams::vcgPriority).
 template <int K, bool VcgPriority>
@@ -128,7 +128,6 @@ class DCollapseT : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollap
   using Base =
       vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollapseT<K, VcgPriority>, vcg::tri::QInfoStandard<DVertex>>;
   using Coord = vcg::Point3d;
-  static constexpr bool kVcgPriority = VcgPriority;
   // Base's default constructor: its other one would evaluate vcglib's priority first.
   DCollapseT(const DPair& p, int i, vcg::BaseParameterClass* pp) {
     this->localMark = i;
@@ -142,11 +141,6 @@ class DCollapseT : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollap
     Base::Execute(m, pp);
     if (!VcgPriority) RefreshNormals(this->pos.V(1));
   }
-  /// Before Init: every face's unit normal in its N(), as ScanFan reads it.
-  static void PrepareNormals(DMesh& m) {
-    for (DFace& f : m.face)
-      if (!f.IsD()) f.N() = UnitNormal(f.cP(0), f.cP(1), f.cP(2));
-  }
 
  private:
   // The options QuadricCollapse sets (both checks, nothing else); any other set is vcglib's.
@@ -154,10 +148,8 @@ class DCollapseT : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollap
     return q.NormalCheck && q.QualityCheck && !q.AreaCheck && !q.HardQualityCheck && !q.HardNormalCheck &&
            !q.UseVertexWeight;
   }
-  // vcg::NormalizedTriangleNormal's expression.
-  static Coord UnitNormal(const Coord& a, const Coord& b, const Coord& c) { return ((b - a) ^ (c - a)).Normalize(); }
   static void RefreshNormals(DVertex* v) {
-    for (vcg::face::VFIterator<DFace> x(v); !x.End(); ++x) x.F()->N() = UnitNormal(x.F()->cP(0), x.F()->cP(1), x.F()->cP(2));
+    for (vcg::face::VFIterator<DFace> x(v); !x.End(); ++x) x.F()->N() = vcg::NormalizedTriangleNormal(*x.F());
   }
 
   // Over the faces of `from` that do not contain `other`: the smallest cosine between a face's
@@ -168,8 +160,8 @@ class DCollapseT : public vcg::tri::TriEdgeCollapseQuadric<DMesh, DPair, DCollap
       const DFace& f = *x.F();
       const Coord p0 = f.cP(0), p1 = f.cP(1), p2 = f.cP(2);
       const Coord q0 = f.cV(0) == from ? to : p0, q1 = f.cV(1) == from ? to : p1, q2 = f.cV(2) == from ? to : p2;
-      const Coord& before = f.cN();  // UnitNormal(p0, p1, p2), kept up to date
-      const Coord after = UnitNormal(q0, q1, q2);
+      const Coord& before = f.cN();  // vcg::NormalizedTriangleNormal(f), kept up to date
+      const Coord after = vcg::Normal(q0, q1, q2).Normalize();
       minCos = std::min(minCos, after.dot(before));
       minQual = std::min(minQual, vcg::Quality(q0, q1, q2));
     }
@@ -426,8 +418,7 @@ void RunCollapse(DMesh& d, int target, bool preserveBoundary, vcg::CallBackPos* 
     std::lock_guard<std::mutex> g(BitFlagLock());
     vcg::tri::UpdateTopology<DMesh>::VertexFace(d);
     vcg::tri::UpdateFlags<DMesh>::FaceBorderFromVF(d);
-    vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
-    if (!Collapse::kVcgPriority) Collapse::PrepareNormals(d);
+    vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);  // also the one-pass priority's N() (DCollapseT)
     session.Init<Collapse>();
   }
   session.SetTargetSimplices(target);
