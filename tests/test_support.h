@@ -1,6 +1,9 @@
 #pragma once
 /// Shared test helpers: sample-scan paths, analytic meshes, conversions.
+#include <algorithm>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "vcg_ext/core/indexed_mesh.h"
 #include "vcg_ext/core/mesh_types.h"
@@ -30,6 +33,21 @@ vcgext::TriData GridWithZeroAreaFaces(int n, bool coincident = false);
 vcgext::TriData Icosphere(int level, double r = 1.0);
 /// UV sphere: n longitudes, m latitude bands, one vertex per pole (valence n), outward faces.
 vcgext::TriData UvSphere(int n, int m);
+/// A face's corner cycle rotated so that its smallest index comes first (orientation kept): equal
+/// for two faces exactly when they are the same oriented face. Works on std::array and std::vector.
+template <class Cycle = std::vector<int>>
+Cycle CanonicalCycle(Cycle c) {
+  std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+  return c;
+}
+/// The faces as a set of canonical cycles: equal for two face lists with the same oriented faces
+/// in any order and at any starting corner.
+template <class Faces>
+std::set<typename Faces::value_type> CanonicalFaceSet(const Faces& faces) {
+  std::set<typename Faces::value_type> s;
+  for (const auto& f : faces) s.insert(CanonicalCycle(f));
+  return s;
+}
 /// Arrays -> vcg mesh (for testing the templated vcg entry points).
 void ToVcg(const vcgext::TriData& d, vcgext::TMesh& m);
 /// A scratch directory unique to this test process.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <set>
 
+#include "test_support.h"
 #include "vcg_ext/core/quad_pairing.h"
 
 namespace {
@@ -27,14 +28,7 @@ FauxHalves Split(const std::vector<Quad>& quads) {
   return h;
 }
 
-std::set<Quad> Canon(const std::vector<Quad>& quads) {
-  std::set<Quad> s;
-  for (Quad q : quads) {
-    std::rotate(q.begin(), std::min_element(q.begin(), q.end()), q.end());
-    s.insert(q);
-  }
-  return s;
-}
+std::set<Quad> Canon(const std::vector<Quad>& quads) { return testsupport::CanonicalFaceSet(quads); }
 
 }  // namespace
 

@@ -21,12 +21,7 @@ vcgext::QuadData Grid(int n) {
 }
 
 // A quad as its cyclic sequence starting at the smallest index (orientation kept).
-std::vector<int> Canon(const vcgext::Quad& f) {
-  int s = 0;
-  for (int k = 1; k < 4; ++k)
-    if (f[k] < f[s]) s = k;
-  return {f[s], f[(s + 1) % 4], f[(s + 2) % 4], f[(s + 3) % 4]};
-}
+std::vector<int> Canon(const vcgext::Quad& f) { return testsupport::CanonicalCycle(std::vector<int>(f.begin(), f.end())); }
 
 TEST(VcgBridge, QuadRoundTripKeepsFacesAndOrientation) {
   auto q = Grid(4);

@@ -594,14 +594,7 @@ TEST(FitIo, QuadPlyReimportsAsTheSameQuads) {
   int resolved = -1;
   ASSERT_EQ(vcgext::ImportQuads(m, back, &resolved), "");
   EXPECT_EQ(resolved, 0);  // the fan diagonals are all distinct: no ambiguity to resolve
-  auto canon = [](vcgext::Quad f) {
-    std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-    return f;
-  };
-  std::set<vcgext::Quad> a, b;
-  for (auto f : q.F) a.insert(canon(f));
-  for (auto f : back.F) b.insert(canon(f));
-  EXPECT_EQ(a, b);
+  EXPECT_EQ(testsupport::CanonicalFaceSet(q.F), testsupport::CanonicalFaceSet(back.F));
 }
 
 // Same input, same output: the normal equations are assembled in a fixed order whatever the

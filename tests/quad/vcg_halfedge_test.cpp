@@ -64,6 +64,7 @@
 #include <vcg/complex/algorithms/update/halfedge_indexed.h>
 
 #include "quad_test_util.h"
+#include "test_support.h"
 #include "vcg_ext/quad/quad_mesh.h"
 
 namespace {
@@ -100,11 +101,7 @@ void BuildHalfEdgeMesh(const vcgext::QuadData& q, HMesh& m) {
 
 int VertIndex(const HMesh& m, const HVertex* v) { return int(v - &m.vert[0]); }
 
-// Canonical cyclic sequence: rotated so that the smallest id comes first (orientation kept).
-std::vector<int> Canonical(std::vector<int> c) {
-  std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-  return c;
-}
+using testsupport::CanonicalCycle;
 
 // Live faces of the half-edge mesh as sorted canonical cycles (walking HNp from FHp).
 std::vector<std::vector<int>> Faces(const HMesh& m) {
@@ -117,7 +114,7 @@ std::vector<std::vector<int>> Faces(const HMesh& m) {
       c.push_back(VertIndex(m, h->HVp()));
       h = h->HNp();
     } while (h != f.cFHp() && c.size() <= 8);
-    out.push_back(Canonical(c));
+    out.push_back(CanonicalCycle(c));
   }
   std::sort(out.begin(), out.end());
   return out;
@@ -126,7 +123,7 @@ std::vector<std::vector<int>> Faces(const HMesh& m) {
 std::vector<std::vector<int>> Faces(const vcgext::quad::QuadMesh& q) {
   std::vector<std::vector<int>> out;
   for (int f = 0; f < q.NumFaceSlots(); ++f)
-    if (q.FaceAlive(f)) out.push_back(Canonical({q.F[f][0], q.F[f][1], q.F[f][2], q.F[f][3]}));
+    if (q.FaceAlive(f)) out.push_back(CanonicalCycle({q.F[f][0], q.F[f][1], q.F[f][2], q.F[f][3]}));
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -241,7 +238,7 @@ TEST(VcgHalfEdge, DoubletRemovalMatchesQuadMesh) {
   EXPECT_EQ(m.fn, qm.NumFaces());
   EXPECT_EQ(m.vn, qm.NumVertices());
   // both give back the original cell (up to rotation)
-  std::vector<int> orig = Canonical({cell[0], cell[1], cell[2], cell[3]});
+  std::vector<int> orig = CanonicalCycle({cell[0], cell[1], cell[2], cell[3]});
   auto fs = Faces(m);
   EXPECT_NE(std::find(fs.begin(), fs.end(), orig), fs.end());
 }
@@ -324,7 +321,7 @@ TEST(VcgHalfEdge, BoundaryCollapseSameConnectivityOtherPositions) {
         if (x == 5) x = 1;
     std::vector<std::vector<int>> expect;
     for (int f = 0; f < qm.NumFaceSlots(); ++f)
-      if (qm.FaceAlive(f)) expect.push_back(Canonical({ours[f][0], ours[f][1], ours[f][2], ours[f][3]}));
+      if (qm.FaceAlive(f)) expect.push_back(CanonicalCycle({ours[f][0], ours[f][1], ours[f][2], ours[f][3]}));
     std::sort(expect.begin(), expect.end());
     EXPECT_EQ(Faces(m), expect);
     EXPECT_EQ(m.vert[1].cP()[0], qm.P[5].x());
