@@ -404,7 +404,9 @@ TEST(QuadSimplify, ValenceTermKeepsATorusCageNearlyRegular) {
   std::printf("torus, 128 patches: irregular vertices %d with the valence term, %d without; max limit distance %.4f / %.4f\n",
               rw.irregularVertices, ro.irregularVertices, dw, dd);
   EXPECT_LE(rw.irregularVertices, ro.irregularVertices / 2);
-  EXPECT_LE(rw.irregularVertices, 16);
+  // Measured 4 (two valence 3/5 pairs; the torus's regular layout has none). 8 leaves room for two
+  // more pairs from a change of rounding in the cost, and still is 3x fewer than without the term.
+  EXPECT_LE(rw.irregularVertices, 8);
   EXPECT_LT(dw, 0.05);  // 14 % of the tube radius
   EXPECT_LT(dw, 1.25 * dd);
   // the paper's halting keeps the paper's cost: the same cage with and without the weight
