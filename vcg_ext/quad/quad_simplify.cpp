@@ -193,7 +193,10 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
 // was 45 per mille from the part (40 after the fit, 21 displaced). The same when the coverage
 // guard ran out of room (it could not double the patches) with the limit that far off
 // (oblong-shuffled: 230 patches, 76 per mille); not for the guard's unreached area alone (b9_mesh,
-// limit 2.6 per mille from the input, went from 1 836 to 7 696 patches).
+// limit 2.6 per mille from the input, went from 1 836 to 7 696 patches). "Fitted" is
+// FittedReferenceRms, the report's limit error: FittedRms (the fit's own data rows, which leave out
+// what the limit does not reach) said 8.8 per mille for rotor @ 400's 515-patch wreck that the
+// report put at 29.4, on an AVX2 host, and the refined start was never tried (docs/quad.md).
 QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
                                    vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
@@ -225,7 +228,7 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
       return false;
     if (!budget) return true;
     if (BudgetReached(x.patches, target)) return false;
-    if (rFitted < 0) rFitted = FittedRms(input, scene, x.quads);
+    if (rFitted < 0) rFitted = FittedReferenceRms(input, scene, x.quads);
     return rFitted > far;
   };
   for (int k = 0; k < 2 && 4L * long(start->F.size()) <= kMaxRefinedStartFaces && needsFiner(r, *start); ++k) {
@@ -236,8 +239,8 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
     QuadSimplifyResult g = SimplifyFromStart(input, scene, S, M, params, cb, nullptr, &next.mesh);
     // judged fitted, as the next filter will fit it (the interpolating limit is a poor predictor:
     // RetryCoversAsWell)
-    if (rFitted < 0) rFitted = FittedRms(input, scene, r.quads);
-    const double gFitted = g.error.empty() ? FittedRms(input, scene, g.quads) : rFitted;
+    if (rFitted < 0) rFitted = FittedReferenceRms(input, scene, r.quads);
+    const double gFitted = g.error.empty() ? FittedReferenceRms(input, scene, g.quads) : rFitted;
     // under a budget the finer start's cage must also come no farther from it, unless the coarse
     // start's cage, fitted, stays farther than startRmsPermille from the input (rotor.off @ 400: 515
     // patches 38 per mille off; from the refined start 683 patches, 2.6)
