@@ -5,7 +5,13 @@
 # own build dir and runs them through ctest; any sanitizer report (memory error, undefined
 # behaviour, leak) fails its test. The plugin and the e2e tests are not part of this build (Debian's
 # meshlabserver is not sanitized). Arguments go to ctest (e.g. -L fitmaps, -R 'Fitmaps\.').
-# Environment: FITMAP_ASAN_BUILD_DIR (default <repo>/build-asan).
+# Environment: FITMAP_ASAN_BUILD_DIR (default <repo>/build-asan); FITMAP_ASAN_ALL=1 runs every unit
+# test. By default the 18 unit tests that take more than 12 s in Release on a slow 2-core machine
+# (2026-12-05; 3-6 times that under ASan: 224 s for the count-pass test) are left out here: they
+# rerun, on real scans and many times over, the code paths the other tests run under the
+# sanitizers on small inputs, and with them the CI's sanitizer run took more than 30 min and CI its
+# 90-min limit. They still run in the Release ctest.
+ASAN_SLOW='^(QuadSimplify\.(ThreadCountDoesNotChangeTheResult|BudgetNotReachedFromAStartTooCoarseIsRefined|CountPassBesideTheLayoutPassGivesTheSequentialCage|StartTooCoarseForTheInputIsRefined|BudgetStoppedByTheThinPartGuardGoesDownTheLadder|EqualizedLayoutKeepsTheCloserOfTheTwoCagesOnSmallMeshes|EqualizedLayoutSpendsThePaperCountByTheSFitmap|RealScansKeepTheGuarantees)|CCFit\.(KeepsTheIterateWithTheLowestDataRms|DampingRetriesRecoverFromAnOvershootingSolve)|LayoutTrials\.(KeepTheLayoutThatFitsClosest|EachTrialGoesDownItsOwnLadder)|TriToQuadProperty\.(EveryManifoldMeshOfTheDataSet|MidpointRefinedMeshes)|LoopSurface\.AgreesWithOpenSubdivSmooth|LoopVcg\.EntryPointsOnVcgMesh|LoopInterpolate\.ResidualAndCusps|Fitmaps\.WorkingResolutionAgreesWithTheFullComputation)$'
 set -euo pipefail
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 BUILD="${FITMAP_ASAN_BUILD_DIR:-$REPO/build-asan}"
@@ -25,4 +31,9 @@ export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:abort_on_error=0:strict_stri
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export LSAN_OPTIONS="suppressions=$REPO/tests/lsan.supp:print_suppressions=0"
 cd "$BUILD"
-ctest --output-on-failure -j"$(nproc)" "$@"
+if [ "${FITMAP_ASAN_ALL:-0}" = 1 ]; then
+  ctest --output-on-failure -j"$(nproc)" "$@"
+else
+  log "leaving out the 18 slowest unit tests (FITMAP_ASAN_ALL=1 runs them too)"
+  ctest --output-on-failure -j"$(nproc)" -E "$ASAN_SLOW" "$@"
+fi

@@ -1,13 +1,15 @@
 // Issue 16 end to end: every input of the bad-input corpus (tests/corpus/make_corpus.py: 59
 // generated files with their expected verdicts) and every mesh of the libcgal-demo data set,
 // through Compute Fitmaps, the whole pipeline and both Loop filters with meshlabserver
-// (tests/corpus/run_corpus.py). Zero crashes, hangs (300 s per run: the slowest data-set run,
+// (tests/corpus/run_corpus.py). Zero crashes, hangs (600 s per run: the slowest data-set run,
 // cheese.off's pipeline, takes 31 s on an idle 2-core machine and ran past 120 s in CI beside
-// ctest -j2's other tests), silent wrong results, unexpected or unclear errors; files that crash
+// ctest -j2's other tests; far1e7.off's pipeline, a float-rounded blob refined into 4 728 patches,
+// took 314 s of a 300-s limit in CI on a slow AMD host on 2026-12-05), silent wrong results, unexpected or unclear errors; files that crash
 // MeshLab 2020.09's own readers are listed apart.
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "e2e_support.h"
@@ -18,7 +20,7 @@ std::string Corpus(const std::string& extra, const std::string& out) {
   const std::string dir = e2e::OutPath("corpus_inputs");
   e2e::RunResult g = e2e::Run("python3 " + e2e::Q(src + "/tests/corpus/make_corpus.py") + " " + e2e::Q(dir));
   EXPECT_EQ(g.exitCode, 0) << g.output;
-  e2e::RunResult r = e2e::Run("python3 " + e2e::Q(src + "/tests/corpus/run_corpus.py") + " --jobs 2 --timeout 300 " +
+  e2e::RunResult r = e2e::Run("python3 " + e2e::Q(src + "/tests/corpus/run_corpus.py") + " --jobs 2 --timeout 600 " +
                               extra + " " + e2e::Q(dir) + " " + e2e::Q(e2e::OutPath(out)));
   // the verdict table and the failing runs, for the CI log
   const size_t table = r.output.find("verdict ");
@@ -34,7 +36,21 @@ TEST(Corpus, EveryBadInputThroughEveryFilter) {
   EXPECT_NE(out.find("clear-error"), std::string::npos);
 }
 
+// Every filter on every data-set mesh is 690 runs: 6 060 s of runs, 50 min of a slow 2-core CI
+// machine (2026-12-05), more than CI can give it beside the other tests. CI runs a fixed sample
+// (run_corpus.py --sample 2): every mesh through Compute Fitmaps (the first stage of every filter:
+// reading, cleaning and the checks on the input) and every second mesh, in name order, through one
+// of the pipeline, the budgeted pipeline, Loop refinement and Loop curvature in turn (about 17
+// meshes each, ~950 s of runs). FITMAP_FULL_CORPUS=1 runs all 690, as before a release; docs/robustness.md
+// keeps the latest full run's table.
 TEST(Corpus, EveryDataSetMeshThroughEveryFilter) {
-  std::string out = Corpus("--include-dataset " + e2e::Q(FITMAP_DATA_DIR) + " --only 'data/*'", "dataset_run");
+  const char* full = std::getenv("FITMAP_FULL_CORPUS");
+  const bool all = full && std::string(full) == "1";
+  std::string out = Corpus("--include-dataset " + e2e::Q(FITMAP_DATA_DIR) + " --only 'data/*'" +
+                               (all ? std::string() : std::string(" --sample 2")),
+                           "dataset_run");
   EXPECT_NE(out.find("valid"), std::string::npos);
+  if (!all) {
+    EXPECT_NE(out.find("--sample 2: "), std::string::npos) << "the sample's line is missing";
+  }
 }
