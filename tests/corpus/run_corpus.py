@@ -27,8 +27,8 @@ with `--patches 200` (a valid run above the budget must warn that it was not rea
 --include-dataset DIR adds every DIR/*.off (expected valid; non-manifold: valid or error;
 no faces: error). --sample K (the CI's data-set run, which would take 50 min on a slow 2-core CI
 machine with every filter): every input runs the first filter (fitmaps) and every K-th input (in
-name order) also one of the others, in turn; the other runs are not made (a line before the table says how
-many were). Prints runs per verdict per filter, writes OUTDIR/verdicts.json (every run:
+name order) also one of the others, in turn; the other runs are not made (a line before the
+table says how many were). Prints runs per verdict per filter, writes OUTDIR/verdicts.json (every run:
 input, filter, verdict, message, exit code, seconds, log) and exits 1 if any run is a crash,
 hang, silent-wrong, unexpected-error or unclear-error (crash-reader / reader-error are listed
 only). Each run's files and log stay in OUTDIR/runs/<filter>/<input>/.

@@ -4,8 +4,8 @@
 // (tests/corpus/run_corpus.py). Zero crashes, hangs (600 s per run: the slowest data-set run,
 // cheese.off's pipeline, takes 31 s on an idle 2-core machine and ran past 120 s in CI beside
 // ctest -j2's other tests; far1e7.off's pipeline, a float-rounded blob refined into 4 728 patches,
-// took 314 s of a 300-s limit in CI on a slow AMD host on 2026-12-05), silent wrong results, unexpected or unclear errors; files that crash
-// MeshLab 2020.09's own readers are listed apart.
+// took 314 s of a 300-s limit in CI on a slow AMD host on 2026-12-05), silent wrong results,
+// unexpected or unclear errors; files that crash MeshLab 2020.09's own readers are listed apart.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -41,8 +41,8 @@ TEST(Corpus, EveryBadInputThroughEveryFilter) {
 // (run_corpus.py --sample 2): every mesh through Compute Fitmaps (the first stage of every filter:
 // reading, cleaning and the checks on the input) and every second mesh, in name order, through one
 // of the pipeline, the budgeted pipeline, Loop refinement and Loop curvature in turn (about 17
-// meshes each, ~950 s of runs). FITMAP_FULL_CORPUS=1 runs all 690, as before a release; docs/robustness.md
-// keeps the latest full run's table.
+// meshes each, ~950 s of runs). FITMAP_FULL_CORPUS=1 runs all 690, as before a release;
+// docs/robustness.md keeps the latest full run's table.
 TEST(Corpus, EveryDataSetMeshThroughEveryFilter) {
   const char* full = std::getenv("FITMAP_FULL_CORPUS");
   const bool all = full && std::string(full) == "1";
