@@ -157,6 +157,7 @@ def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
      "without the M-fitmap test a target patch count is needed (it would collapse everything)"),
     (lambda ms: ms.generate_fitmap_quad_simplification(regularity=-1), "the regularity weight must be in [0, 100]"),
     (lambda ms: ms.generate_fitmap_quad_simplification(layouttrials=0), "the layout trials must be in [1, 5]"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(swapsweep=6), "the swap sweep must be in [0, 5] swaps per chain"),
     (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
      "the reference layer must be another layer than the control mesh (the current layer)"),
     (lambda ms: ms.apply_loop_surrogate_snap_points(surfacemesh=0),
@@ -228,6 +229,23 @@ def test_regularity_weight_gives_fewer_irregular_vertices_at_a_budget():
         assert abs(q["patches"] - 150) <= 3
         irregular.append(q["irregular_vertices"])
     assert irregular[1] < irregular[0], irregular
+
+
+def test_swap_sweep_gives_fewer_irregular_vertices_at_the_same_count():
+    # the filter's "swapSweep" (QuadSimplifyParams::swapSweepChain, default 3): chains of swaps
+    # after the last collapse cancel pairs of singularities without changing the patch count
+    # (the same as run_pipeline.sh --swap-sweep; docs/quad.md "Swap sweep")
+    got = {}
+    for chain in (0, 3):
+        ms = pymeshlab.MeshSet()
+        m = icosphere(4)
+        V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
+        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+        got[chain] = ms.generate_fitmap_quad_simplification(targetpatches=150, swapsweep=chain)
+    assert got[0]["sweep_chains"] == 0
+    assert got[3]["sweep_chains"] > 0
+    assert got[3]["patches"] == got[0]["patches"]
+    assert got[3]["irregular_vertices"] < got[0]["irregular_vertices"], (got[0], got[3])
 
 
 def test_budget_above_the_layers_quads_is_reached_from_its_refinement():

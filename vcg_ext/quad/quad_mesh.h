@@ -108,6 +108,13 @@ class QuadMesh {
   void Commit();
   void Rollback();
   bool InTransaction() const { return recording_; }
+  /// A point of the running transaction's journal; UndoTo(mark) restores the mesh as it was
+  /// there and keeps the transaction open (a search that tries operators and backs out).
+  struct Mark {
+    size_t faces = 0, verts = 0;
+  };
+  Mark JournalMark() const { return {fj_.size(), vj_.size()}; }
+  void UndoTo(const Mark& m) { RollbackTo(m.faces, m.verts); }
   /// Moves a control point, journaled when inside a transaction.
   void MoveVertex(int v, const Vec3& p);
 

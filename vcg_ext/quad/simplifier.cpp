@@ -525,8 +525,8 @@ class Simplifier {
     return 0;
   }
 
-  // Commits a checked step: the caches of its elements, their re-queued costs, the counts.
-  void CommitStep(const StepCounts& n) {
+  // The committed mesh and the caches of the checked elements; their costs re-queued.
+  void CommitCaches() {
     K.Commit();
     for (int v : R1_) vpcOk_[v] = 0;  // their committed vertex points changed
     for (int g : region_)
@@ -535,12 +535,100 @@ class Simplifier {
     for (size_t i = 0; i < R1_.size(); ++i) { vok_[R1_[i]] = newVok_[i]; vhit_[R1_[i]] = newVhit_[i]; }
     // re-queue faces whose cost may have changed
     for (int g : region_) Push(g);
-    res_.collapses++;
-    res_.doublets += n.doublets;
-    res_.swaps += n.swaps;
-    res_.boundaryCorners += n.corners;
   }
 
+  // Checks the pending operation on the moved ring W (local fit, then the step's checks):
+  // 0 = kept (committed caches), else the refusal code (rolled back).
+  int FitCheckCommit(const std::vector<int>& W) {
+    LocalFit(W);
+    memo_.Reset();  // positions and connectivity are frozen from here to Commit/Rollback
+    for (auto& m : threadMemos_) m.Reset();
+    CollectCheckRegion(W);
+    RunChecks();
+    if (const int code = Verdict()) return Refuse(code);
+    CountStaleMemos();
+    CommitCaches();
+    return 0;
+  }
+
+  // Beyond the paper (issue 13, docs/quad.md "Swap sweep"): after the last collapse, every edge of
+  // the cage starts a chain of at most p_.swapSweepChain swaps that lowers the summed valence
+  // defect (SweepSwap), each chain a step of its own (local fit and the steps' checks; refused
+  // chains are undone), in face order, until a pass keeps nothing or after `passes` passes. The
+  // paper swaps only in the 1-ring of a collapse's survivor, one swap at a time, so pairs of
+  // singularities two or three edges apart stay. Returns the chains kept; -1: test mode found an
+  // invalid state (res_.error).
+  int SwapSweep(int passes) {
+    QuadMesh::Invariants inv;
+    if (p_.validateEveryOperation) inv = K.ComputeInvariants();
+    int kept = 0;
+    for (int pass = 0; pass < passes; ++pass) {
+      int keptNow = 0;
+      for (int g = 0; g < K.NumFaceSlots(); ++g)
+        for (int j = 0; j < 4 && K.FaceAlive(g); ++j) {
+          if (!SweepSwap(g, j)) continue;
+          ++keptNow;
+          if (p_.validateEveryOperation && !Validate(inv)) return -1;
+        }
+      kept += keptNow;
+      if (keptNow == 0) break;
+    }
+    return kept;
+  }
+  // The best swap of edge j of g: its variant and valence-defect change (false: none allowed).
+  bool BestSwap(int g, int j, int* var, int* delta) const {
+    *var = -1;
+    for (int v = 0; v < 2; ++v) {
+      int d;
+      if (K.SwapEnergyDelta(g, j, v, &d) && (*var < 0 || d < *delta)) { *delta = d; *var = v; }
+    }
+    return *var >= 0;
+  }
+  // Applies, inside the running transaction, a chain of at most `depth` neutral swaps next to
+  // `around` ending in one that lowers the valence defect (a singularity moved to a partner
+  // and cancelled with it), the first found in mesh order; false: none found, the mesh as it
+  // was. `seeds` gets the corners of the faces the chain changed.
+  bool LoweringChain(const std::vector<int>& around, int depth, std::vector<int>& seeds) {
+    for (int x : around) {
+      if (!K.VertAlive(x)) continue;
+      const std::vector<int> faces = K.VF(x);
+      for (int g : faces)
+        for (int j = 0; j < 4 && K.FaceAlive(g); ++j) {
+          int var = -1, delta = 0;
+          if (!BestSwap(g, j, &var, &delta) || delta > 0 || (delta == 0 && depth <= 0)) continue;
+          const int h = K.AcrossEdge(g, j);
+          std::vector<int> hex(K.F[g].begin(), K.F[g].end());
+          hex.insert(hex.end(), K.F[h].begin(), K.F[h].end());
+          const QuadMesh::Mark mark = K.JournalMark();
+          if (K.SwapEdge(g, j, var) != OpResult::Ok) continue;
+          if (delta < 0 || LoweringChain(hex, depth - 1, seeds)) {
+            seeds.insert(seeds.end(), hex.begin(), hex.end());
+            return true;
+          }
+          K.UndoTo(mark);
+        }
+    }
+    return false;
+  }
+  // A chain that starts with the swap of edge j of g, applied and checked (true: kept).
+  bool SweepSwap(int g, int j) {
+    int var = -1, delta = 0;
+    if (!BestSwap(g, j, &var, &delta) || delta > 0 || (delta == 0 && p_.swapSweepChain < 2)) return false;
+    const int h = K.AcrossEdge(g, j);
+    std::vector<int> seeds(K.F[g].begin(), K.F[g].end());
+    seeds.insert(seeds.end(), K.F[h].begin(), K.F[h].end());
+    K.Begin();
+    if (K.SwapEdge(g, j, var) != OpResult::Ok) { K.Rollback(); return false; }
+    // a neutral swap moves a singularity: kept only when a chain of swaps next to it then
+    // lowers the defect (a pair brought together and cancelled)
+    if (delta == 0 && !LoweringChain(std::vector<int>(seeds), p_.swapSweepChain - 2, seeds)) {
+      K.Rollback();
+      return false;
+    }
+    std::vector<int> W;
+    CollectRing(seeds, W);
+    return FitCheckCommit(W) == 0;
+  }
   // One simplification step: collapse + doublets + swaps + local fit, or nothing.
   // Returns 0 = done, 1 = topology refusal, 2 = flip refusal, 3 = geometric guard refusal.
   int Step(int f, int k) {
@@ -556,14 +644,11 @@ class Simplifier {
     std::vector<int> W;
     CollectRing(affected, W);
     workUnits_ += long(W.size());  // the step's size (with the checked elements below)
-    LocalFit(W);
-    memo_.Reset();  // positions and connectivity are frozen from here to Commit/Rollback
-    for (auto& m : threadMemos_) m.Reset();
-    CollectCheckRegion(W);
-    RunChecks();
-    if (const int code = Verdict()) return Refuse(code);
-    CountStaleMemos();
-    CommitStep(n);
+    if (const int code = FitCheckCommit(W)) return code;
+    res_.collapses++;
+    res_.doublets += n.doublets;
+    res_.swaps += n.swaps;
+    res_.boundaryCorners += n.corners;
     return 0;
   }
 
@@ -886,6 +971,37 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
   res.valenceHistogram = sim.K.ValenceHistogram(&res.irregularVertices);
   res.secondsTotal = Since(t0);
   return res;
+}
+
+void SweepCage(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+               const std::vector<double>& M, const QuadSimplifyParams& params, QuadSimplifyResult& r) {
+  if (!params.edgeSwaps || params.swapSweepChain <= 0 || !r.error.empty() || r.quads.F.empty()) return;
+  const auto t0 = Clock::now();
+  // the cage as triangles, the Simplifier's start: its boundary corners are the ones pinned
+  TriData start;
+  start.V = r.quads.V;
+  for (const Quad& q : r.quads.F) {
+    start.F.push_back({q[0], q[1], q[2]});
+    start.F.push_back({q[0], q[2], q[3]});
+  }
+  QuadSimplifyResult scratch;
+  Simplifier sim(input, start, scene, S, M, params, scratch);
+  sim.K = QuadMesh(r.quads.V, r.quads.F);
+  sim.Initialize();  // the checks' caches, on one thread: a chain's checks are a few dozen elements
+  r.sweepSwaps = sim.SwapSweep(4);  // at most 4 passes (bunny00: the second keeps one chain, the third none)
+  if (r.sweepSwaps < 0) {
+    r.error = scratch.error;
+    return;
+  }
+  if (r.sweepSwaps > 0) {
+    r.quads = sim.K.ToQuadData();
+    r.patches = sim.K.NumFaces();
+    r.valenceHistogram = sim.K.ValenceHistogram(&r.irregularVertices);
+    r.flippedPatches = sim.CountFlipped();
+    r.flippedVertices = sim.CountFlippedVertices();
+  }
+  r.secondsSimplify += Since(t0);
+  r.secondsTotal += Since(t0);
 }
 
 }  // namespace simplify_internal

@@ -34,6 +34,14 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
                                 quad::LayoutGate* gate = nullptr, bool* cancelled = nullptr, double* gateWait = nullptr,
                                 quad::LayoutGate* publishTo = nullptr);
 
+/// Beyond the paper (issue 13, docs/quad.md "Swap sweep"): the swap sweep
+/// (QuadSimplifyParams::swapSweepChain; 0 = nothing) on the finished cage `r`, with the checks of
+/// a step (local fit, flip test, thin-part guard against S / M): chains of swaps anywhere on the
+/// cage that lower its summed valence defect. Updates r's quads, irregular vertices, valences,
+/// flips, `sweepSwaps` and times; test mode (validateEveryOperation) validates every chain.
+void SweepCage(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+               const std::vector<double>& M, const QuadSimplifyParams& params, QuadSimplifyResult& r);
+
 /// How closely the interpolating limit of cage `q` follows the input, on a 6 x 6 tessellation per
 /// patch: `rms`, the RMS distance from (every k-th of at most ~100k) input vertices to it (to
 /// choose between two layouts); with `area`, `unreachedPct`, the share (%) of the input's area
