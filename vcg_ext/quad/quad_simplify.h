@@ -295,7 +295,8 @@ std::vector<double> TrialValenceWeights(double first, int trials);
 /// 4 and 2.5 x the budget, each retry judged by its fitted limit); without one, the paper's count
 /// laid out by the S-fitmap (Layout::Equalized) and the coverage guard; with or without one, a
 /// start too coarse for the input refined at edge midpoints (startRmsPermille; under a budget only
-/// when it was missed and the cage, fitted, stays that far off).
+/// when it was missed and the cage, fitted, stays that far off); last, on the chosen cage, the
+/// swap sweep (swapSweepChain, off by default: docs/quad.md "Swap sweep").
 /// Errors: empty input, size mismatches, non-finite fitmaps, non-manifold input (reports the
 /// number of non-manifold edges and vertices). A mesh too small to simplify returns its pure-quad
 /// mesh with `message` set. Cost: roughly O(F log F) collapses, each O(1) local work
