@@ -232,7 +232,7 @@ def test_regularity_weight_gives_fewer_irregular_vertices_at_a_budget():
 
 
 def test_swap_sweep_gives_fewer_irregular_vertices_at_the_same_count():
-    # the filter's "swapSweep" (QuadSimplifyParams::swapSweepChain, default 3): chains of swaps
+    # the filter's "swapSweep" (QuadSimplifyParams::swapSweepChain, default 0 = off): chains of swaps
     # after the last collapse cancel pairs of singularities without changing the patch count
     # (the same as run_pipeline.sh --swap-sweep; docs/quad.md "Swap sweep")
     got = {}

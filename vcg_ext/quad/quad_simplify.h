@@ -45,9 +45,9 @@ struct QuadSimplifyParams {
   /// the whole cage apply every chain of at most this many edge swaps (neutral ones moving a
   /// singularity, the last lowering the summed valence defect: a pair of singularities brought
   /// together and cancelled), each chain checked like a step (local fit, flip test, guard);
-  /// 1 = only swaps that lower the defect by themselves; 0 = off (the paper: swaps only in the
-  /// 1-ring of each collapse's survivor; the default: 3 cuts the irregular vertices by a fifth to
-  /// a third but moves the limit error and the unprojectable area up a little on average).
+  /// 1 = only swaps that lower the defect by themselves; 0 = off, the default (the paper: swaps
+  /// only in the 1-ring of each collapse's survivor; 3 cuts the irregular vertices by a fifth to a
+  /// third but moves the limit error and the unprojectable area up a little on average).
   int swapSweepChain = 0;
   int fitRounds = 2;              ///< smoothing + re-interpolation rounds per step (paper: 2)
   double smoothingWeight = 0.5;   ///< move this fraction towards the mean of incident centroids (paper: 1/2)

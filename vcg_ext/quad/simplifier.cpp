@@ -419,19 +419,13 @@ class Simplifier {
       for (int g : faces) {
         for (int j = 0; j < 4; ++j) {
           if (!K.FaceAlive(g)) break;
-          int best = 0, bestVar = -1;
-          for (int var = 0; var < 2; ++var) {
-            int dlt;
-            if (K.SwapEnergyDelta(g, j, var, &dlt) && dlt < best) { best = dlt; bestVar = var; }
-          }
-          if (bestVar < 0) continue;
-          int h = K.AcrossEdge(g, j);
-          Quad before_g = K.F[g], before_h = K.F[h];
+          int bestVar = -1, best = 0;
+          if (!BestSwap(g, j, &bestVar, &best) || best >= 0) continue;
+          const std::vector<int> hex = EdgeFaceCorners(g, j);
           if (K.SwapEdge(g, j, bestVar) == OpResult::Ok) {
             ++n.swaps;
             any = true;
-            for (int x : before_g) affected.push_back(x);
-            for (int x : before_h) affected.push_back(x);
+            affected.insert(affected.end(), hex.begin(), hex.end());
           }
         }
       }
@@ -584,44 +578,50 @@ class Simplifier {
     }
     return *var >= 0;
   }
-  // Applies, inside the running transaction, a chain of at most `depth` neutral swaps next to
-  // `around` ending in one that lowers the valence defect (a singularity moved to a partner
-  // and cancelled with it), the first found in mesh order; false: none found, the mesh as it
-  // was. `seeds` gets the corners of the faces the chain changed.
+  // The corners of the two faces of interior edge j of g (the hexagon its swap rewires).
+  std::vector<int> EdgeFaceCorners(int g, int j) const {
+    const int h = K.AcrossEdge(g, j);
+    std::vector<int> c(K.F[g].begin(), K.F[g].end());
+    c.insert(c.end(), K.F[h].begin(), K.F[h].end());
+    return c;
+  }
+  // Applies, inside the running transaction, the best swap of edge j of g when it lowers the
+  // valence defect, or when it leaves it unchanged (it moves a singularity), depth > 0 and a
+  // LoweringChain of depth - 1 next to it follows; false: nothing applied, the mesh as it was.
+  // `seeds` gets the corners of the faces the chain changed (the innermost swap's first).
+  bool ChainFrom(int g, int j, int depth, std::vector<int>& seeds) {
+    int var = -1, delta = 0;
+    if (!BestSwap(g, j, &var, &delta) || delta > 0 || (delta == 0 && depth <= 0)) return false;
+    const std::vector<int> hex = EdgeFaceCorners(g, j);
+    const QuadMesh::Mark mark = K.JournalMark();
+    if (K.SwapEdge(g, j, var) != OpResult::Ok) return false;  // (a refused operator undoes itself)
+    if (delta < 0 || LoweringChain(hex, depth - 1, seeds)) {
+      seeds.insert(seeds.end(), hex.begin(), hex.end());
+      return true;
+    }
+    K.UndoTo(mark);
+    return false;
+  }
+  // The first ChainFrom(depth) on an edge of a face around `around`, in mesh order (a
+  // singularity moved to a partner and cancelled with it); false: none, the mesh as it was.
   bool LoweringChain(const std::vector<int>& around, int depth, std::vector<int>& seeds) {
     for (int x : around) {
       if (!K.VertAlive(x)) continue;
       const std::vector<int> faces = K.VF(x);
       for (int g : faces)
-        for (int j = 0; j < 4 && K.FaceAlive(g); ++j) {
-          int var = -1, delta = 0;
-          if (!BestSwap(g, j, &var, &delta) || delta > 0 || (delta == 0 && depth <= 0)) continue;
-          const int h = K.AcrossEdge(g, j);
-          std::vector<int> hex(K.F[g].begin(), K.F[g].end());
-          hex.insert(hex.end(), K.F[h].begin(), K.F[h].end());
-          const QuadMesh::Mark mark = K.JournalMark();
-          if (K.SwapEdge(g, j, var) != OpResult::Ok) continue;
-          if (delta < 0 || LoweringChain(hex, depth - 1, seeds)) {
-            seeds.insert(seeds.end(), hex.begin(), hex.end());
-            return true;
-          }
-          K.UndoTo(mark);
-        }
+        for (int j = 0; j < 4 && K.FaceAlive(g); ++j)
+          if (ChainFrom(g, j, depth, seeds)) return true;
     }
     return false;
   }
-  // A chain that starts with the swap of edge j of g, applied and checked (true: kept).
+  // A chain of at most p_.swapSweepChain swaps that starts with the swap of edge j of g, applied
+  // and checked (true: kept).
   bool SweepSwap(int g, int j) {
-    int var = -1, delta = 0;
-    if (!BestSwap(g, j, &var, &delta) || delta > 0 || (delta == 0 && p_.swapSweepChain < 2)) return false;
-    const int h = K.AcrossEdge(g, j);
-    std::vector<int> seeds(K.F[g].begin(), K.F[g].end());
-    seeds.insert(seeds.end(), K.F[h].begin(), K.F[h].end());
+    if (K.AcrossEdge(g, j) < 0) return false;
+    // the start's corners first: the order of the local fit's ring (ChainFrom adds them again)
+    std::vector<int> seeds = EdgeFaceCorners(g, j);
     K.Begin();
-    if (K.SwapEdge(g, j, var) != OpResult::Ok) { K.Rollback(); return false; }
-    // a neutral swap moves a singularity: kept only when a chain of swaps next to it then
-    // lowers the defect (a pair brought together and cancelled)
-    if (delta == 0 && !LoweringChain(std::vector<int>(seeds), p_.swapSweepChain - 2, seeds)) {
+    if (!ChainFrom(g, j, p_.swapSweepChain - 1, seeds)) {
       K.Rollback();
       return false;
     }
@@ -1000,8 +1000,9 @@ void SweepCage(const TriData& input, const EmbreeScene& scene, const std::vector
     r.flippedPatches = sim.CountFlipped();
     r.flippedVertices = sim.CountFlippedVertices();
   }
-  r.secondsSimplify += Since(t0);
-  r.secondsTotal += Since(t0);
+  const double seconds = Since(t0);
+  r.secondsSimplify += seconds;
+  r.secondsTotal += seconds;
 }
 
 }  // namespace simplify_internal
