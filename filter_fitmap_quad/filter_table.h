@@ -49,6 +49,7 @@ inline const char* kLayoutTrials = "layoutTrials";        ///< int, QuadSimplify
 inline const char* kGuard = "thinPartGuard";              ///< float, fraction of F_M (0 = off)
 inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)
 inline const char* kWorkingFaces = "workingFaces";        ///< int, triangles of M' (0 = the full input)
+inline const char* kFirstWorkingFaces = "firstWorkingFaces";  ///< int, a dense input's first start (0 = none)
 // Fit Catmull-Clark Surface and Bake Displacement
 inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)
 inline const char* kLimitSegments = "limitSegments";      ///< int, N per patch side

@@ -49,6 +49,9 @@ void SetStageMemory(CMeshO& m, const StageMemory& s);
 /// input serves both filters).
 constexpr int kDefaultFitmapsWorkingFaces = 100000;
 constexpr int kDefaultWorkingFaces = 40000;
+/// An input above the working resolution is first simplified from a coarser start
+/// (vcgext::SimplifyFromWorkingStart; docs/multires.md "A coarser first start").
+constexpr int kDefaultFirstWorkingFaces = 10000;
 /// A smaller input starts the simplification from its midpoint refinement (docs/robustness.md).
 constexpr int kMinWorkingFaces = 1000;
 /// An input with a vertex of higher valence starts from an isotropic remesh (decimate.h).

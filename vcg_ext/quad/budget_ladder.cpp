@@ -59,7 +59,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   const int target = params.targetPatches;
   const auto reached = [target](const QuadSimplifyResult& x) { return BudgetReached(x.patches, target); };
   QuadSimplifyResult r = SimplifyOnce(input, start, scene, S, M, LayoutParams(params, target), prog, initialQuads);
-  if (!r.error.empty() || reached(r) || !(params.deviationFactor > 0)) return r;
+  if (!r.error.empty() || reached(r) || !(params.deviationFactor > 0) || !params.budgetLadder) return r;
   QuadSimplifyResult best;  // the retry kept so far (patches 0: none)
   double spent = 0;         // seconds of the retries not kept
   std::string notes;        // why retries were not kept

@@ -64,6 +64,9 @@ struct QuadSimplifyParams {
   /// optional absolute cap of that tolerance, % of the bbox diagonal (0 = no cap)
   double maxDeviationPercent = 0.0;
   bool finalReinterpolation = true;  ///< one global solve at the end: all limit vertices back onto the input
+  /// Under a budget, the budget ladder's retries when the first pass stops above it (docs/quad.md
+  /// "Budget ladder"); false: the first pass as it is (SimplifyFromWorkingStart's first start).
+  bool budgetLadder = true;
   bool validateEveryOperation = false;  ///< test mode: full validity check after every step (O(F) each)
   /// How the patches are spent when the count is the paper's (targetPatches 0, M-fitmap test on).
   /// Beyond the paper (docs/quad.md "Layout"): the paper's halting keeps collapsing until the
