@@ -294,6 +294,8 @@ void LogWorkingStart(GlueContext& ctx, const vcgext::WorkingStartResult& ws, int
     ctx.log("Fitmap Quad Simplification: kept the cage of the first start (" + std::to_string(ws.firstStartFaces) +
             " triangles: the input is denser than the working resolution; docs/multires.md \"A coarser first start\")");
   }
+  ctx.Value("first_start_faces", ws.firstStartFaces);
+  ctx.Value("first_start_kept", ws.firstKept ? 1 : 0);
   for (const std::string& warning : ws.start.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + warning);
   for (const std::string& note : ws.start.notes) ctx.log("Fitmap Quad Simplification: " + note);
   if (ws.start.work.decimated) times.push_back({"working_resolution", ws.start.work.seconds});

@@ -8,6 +8,16 @@ import pytest
 from conftest import PYTHON_NAMES, assert_layers_equal, icosphere, layers_snapshot
 
 
+def ellipsoid_meshset(level=4):
+    """A MeshSet with one layer: the icosphere of `level` scaled to the ellipsoid 1 x 0.6 x 0.4
+    (the Fitmaps vary over it)."""
+    ms = pymeshlab.MeshSet()
+    m = icosphere(level)
+    V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+    return ms
+
+
 def test_every_filter_is_a_meshset_method_with_its_python_name():
     names = set(pymeshlab.filter_list())
     ms = pymeshlab.MeshSet()
@@ -158,6 +168,8 @@ def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
     (lambda ms: ms.generate_fitmap_quad_simplification(regularity=-1), "the regularity weight must be in [0, 100]"),
     (lambda ms: ms.generate_fitmap_quad_simplification(layouttrials=0), "the layout trials must be in [1, 5]"),
     (lambda ms: ms.generate_fitmap_quad_simplification(swapsweep=6), "the swap sweep must be in [0, 5] swaps per chain"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(firstworkingfaces=-1),
+     "the first start of a dense input must be >= 0 triangles"),
     (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
      "the reference layer must be another layer than the control mesh (the current layer)"),
     (lambda ms: ms.apply_loop_surrogate_snap_points(surfacemesh=0),
@@ -221,10 +233,7 @@ def test_regularity_weight_gives_fewer_irregular_vertices_at_a_budget():
     # --regularity; docs/quad.md "Regularity")
     irregular = []
     for w in (0.0, 1.0):
-        ms = pymeshlab.MeshSet()
-        m = icosphere(4)
-        V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
-        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+        ms = ellipsoid_meshset()
         q = ms.generate_fitmap_quad_simplification(targetpatches=150, regularity=w)
         assert abs(q["patches"] - 150) <= 3
         irregular.append(q["irregular_vertices"])
@@ -237,15 +246,29 @@ def test_swap_sweep_gives_fewer_irregular_vertices_at_the_same_count():
     # (the same as run_pipeline.sh --swap-sweep; docs/quad.md "Swap sweep")
     got = {}
     for chain in (0, 3):
-        ms = pymeshlab.MeshSet()
-        m = icosphere(4)
-        V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
-        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+        ms = ellipsoid_meshset()
         got[chain] = ms.generate_fitmap_quad_simplification(targetpatches=150, swapsweep=chain)
     assert got[0]["sweep_chains"] == 0
     assert got[3]["sweep_chains"] > 0
     assert got[3]["patches"] == got[0]["patches"]
     assert got[3]["irregular_vertices"] < got[0]["irregular_vertices"], (got[0], got[3])
+
+
+def test_dense_input_is_simplified_from_its_first_start():
+    # the filter's "firstWorkingFaces" (vcgext::SimplifyFromWorkingStart; docs/multires.md "A coarser
+    # first start"): an input above the working resolution (here 5 000 of its 20 480 triangles) is
+    # simplified from its decimation to 1 280 triangles, and that cage kept when it reaches the
+    # budget; 0 = from the working resolution, as before, for a cage of the same size
+    got = {}
+    for first in (0, 1280):
+        ms = ellipsoid_meshset(5)
+        got[first] = ms.generate_fitmap_quad_simplification(targetpatches=150, workingfaces=5000,
+                                                            firstworkingfaces=first)
+    assert got[0]["first_start_faces"] == 0 and got[0]["first_start_kept"] == 0
+    assert abs(got[1280]["first_start_faces"] - 1280) <= 8
+    assert got[1280]["first_start_kept"] == 1
+    for q in got.values():
+        assert abs(q["patches"] - 150) <= 3, q["patches"]
 
 
 def test_budget_above_the_layers_quads_is_reached_from_its_refinement():

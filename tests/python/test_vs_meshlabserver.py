@@ -87,7 +87,8 @@ def test_default_pipeline_same_as_meshlabserver(name, tmp_path):
     # 2025.07 into double; the 2025 plugin rounds the layers' coordinates to float
     # (vcg_ext/core/input_prep.h, CoordinatePrecision) and decimates with 2020.09's vcglib
     # (CMakeLists.txt, vcgx_decimate2020), so both compute on the same numbers with the same code.
-    # bunny00 is decimated to the 40k working resolution and again for the count pass; fandisk
+    # bunny00 is decimated to its 10k first start (the count pass runs on it too; docs/multires.md
+    # "A coarser first start"; before 2026-12-05 the 40k working resolution and a 10k count start); fandisk
     # (13k triangles) only for the count pass. Before (2026-12-02, each MeshLab's own vcglib and
     # precision): bunny00 394 / 110 vs 391 / 118 patches / irregular, RMS limit 0.848 vs 0.946.
     # Measured after: identical reports but for the rounding of the last digits (the control

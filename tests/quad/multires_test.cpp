@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bumpy_sphere.h"
 #include "test_support.h"
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/quad/quad_mesh.h"
@@ -15,31 +16,8 @@ using vcgext::TriData;
 using vcgext::Vec3;
 
 namespace {
-double Radius(const Vec3& d) {  // the bumpy sphere r(d) = 1 + 0.05 sin 3x sin 3y sin 3z, |d| = 1
-  return 1.0 + 0.05 * std::sin(3 * d[0]) * std::sin(3 * d[1]) * std::sin(3 * d[2]);
-}
-TriData BumpySphere(int level) {
-  TriData t = testsupport::Icosphere(level);
-  for (auto& p : t.V) p *= Radius(p.normalized());
-  return t;
-}
-// RMS radial distance of the limit surface (5 x 5 samples per patch) to the analytic shape.
-double LimitRms(const vcgext::QuadData& q) {
-  vcgext::LimitSurface ls = vcgext::LimitSurface::FromQuads(q);
-  EXPECT_TRUE(ls.Ok());
-  double sum = 0;
-  int n = 0;
-  for (int f = 0; f < ls.NumFaces(); ++f)
-    for (int i = 0; i < 5; ++i)
-      for (int j = 0; j < 5; ++j) {
-        Vec3 P;
-        ls.Evaluate(f, (i + 0.5) / 5, (j + 0.5) / 5, q.V, &P);
-        double d = P.norm() - Radius(P.normalized());
-        sum += d * d;
-        ++n;
-      }
-  return std::sqrt(sum / n);
-}
+using quadtest::BumpySphere;
+const auto LimitRms = quadtest::BumpyLimitRms;
 struct Outcome {
   vcgext::QuadSimplifyResult r;
   double rms = 0;

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "quad_test_util.h"
+#include "bumpy_sphere.h"
 #include "test_support.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/working_start.h"
@@ -16,31 +17,8 @@ using vcgext::TriData;
 using vcgext::Vec3;
 
 namespace {
-double Radius(const Vec3& d) {  // the bumpy sphere of multires_test.cpp
-  return 1.0 + 0.05 * std::sin(3 * d[0]) * std::sin(3 * d[1]) * std::sin(3 * d[2]);
-}
-TriData BumpySphere(int level) {
-  TriData t = testsupport::Icosphere(level);
-  for (auto& p : t.V) p *= Radius(p.normalized());
-  return t;
-}
-// RMS radial distance of the limit surface (5 x 5 samples per patch) to the analytic shape.
-double LimitRms(const vcgext::QuadData& q) {
-  vcgext::LimitSurface ls = vcgext::LimitSurface::FromQuads(q);
-  EXPECT_TRUE(ls.Ok());
-  double sum = 0;
-  int n = 0;
-  for (int f = 0; f < ls.NumFaces(); ++f)
-    for (int i = 0; i < 5; ++i)
-      for (int j = 0; j < 5; ++j) {
-        Vec3 P;
-        ls.Evaluate(f, (i + 0.5) / 5, (j + 0.5) / 5, q.V, &P);
-        const double d = P.norm() - Radius(P.normalized());
-        sum += d * d;
-        ++n;
-      }
-  return std::sqrt(sum / n);
-}
+using quadtest::BumpySphere;
+const auto LimitRms = quadtest::BumpyLimitRms;
 vcgext::WorkingStartResult SimplifyDense(const TriData& in, const vcgext::QuadSimplifyParams& p, int workingFaces, int firstFaces) {
   vcgext::EmbreeScene scene(in);
   std::vector<double> S(in.V.size(), 1.0), M(in.V.size(), 0.6);
