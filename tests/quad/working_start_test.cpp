@@ -105,3 +105,17 @@ TEST(WorkingStart, FlatFacedPartIsSimplifiedFromTheWorkingResolution) {
   EXPECT_EQ(fast.result.quads.F, work.result.quads.F);
   std::printf("fandisk: %s; %d patches\n", fast.fallbackReason.c_str(), fast.result.patches);
 }
+
+// An input the decimation cannot take (zero-area triangles with coincident corners: ChooseStartMesh
+// keeps the full input, with a warning) gets no first start: it would be the same full input.
+TEST(WorkingStart, UndecimatableInputHasNoFirstStart) {
+  const TriData g = testsupport::GridWithZeroAreaFaces(3, true);  // 8 192 triangles
+  vcgext::QuadSimplifyParams p;
+  p.targetPatches = 100;
+  const vcgext::WorkingStartResult w = SimplifyDense(g, p, 4000, 1000);
+  EXPECT_EQ(w.firstStartFaces, 0);
+  EXPECT_FALSE(w.firstKept);
+  EXPECT_FALSE(w.start.differs);
+  ASSERT_EQ(w.start.warnings.size(), 1u);
+  EXPECT_NE(w.start.warnings[0].find("full input"), std::string::npos);
+}

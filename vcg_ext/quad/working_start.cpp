@@ -68,6 +68,16 @@ std::string FirstStartRefused(const TriData& input, const QuadSimplifyParams& pa
   return {};
 }
 
+// The simplification from the start ChooseStartMesh(input, sp) picks (no first start).
+WorkingStartResult FromWorkingResolution(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                         const std::vector<double>& M, const QuadSimplifyParams& params,
+                                         const StartMeshParams& sp, vcg::CallBackPos* cb) {
+  WorkingStartResult w;
+  w.start = ChooseStartMesh(input, sp, cb);
+  w.result = SimplifyFrom(input, scene, S, M, params, w.start, cb);
+  return w;
+}
+
 }  // namespace
 
 double SliverSharePct(const TriData& m) {
@@ -108,6 +118,9 @@ WorkingStartResult SimplifyFromWorkingStart(const TriData& input, const EmbreeSc
     fp.workingFaces = int(first);
     w.start = ChooseStartMesh(input, fp, cb);
     w.firstStartFaces = int(w.start.work.mesh.F.size());
+    // not decimated (zero-area triangles with coincident corners: the full input, with a warning):
+    // no coarser than the working resolution's start, the same input
+    if (!w.start.work.decimated) return FromWorkingResolution(input, scene, S, M, params, sp, cb);
     const double slivers = SliverSharePct(w.start.work.mesh), inputSlivers = SliverSharePct(input);
     if (slivers > inputSlivers + kMaxAddedSliverPct) {
       char buf[200];
@@ -125,9 +138,12 @@ WorkingStartResult SimplifyFromWorkingStart(const TriData& input, const EmbreeSc
       return w;
     }
   }
-  w.start = ChooseStartMesh(input, sp, cb);
-  w.result = SimplifyFrom(input, scene, S, M, params, w.start, cb);
-  return w;
+  WorkingStartResult fromWork = FromWorkingResolution(input, scene, S, M, params, sp, cb);
+  fromWork.firstStartFaces = w.firstStartFaces;
+  fromWork.firstPatches = w.firstPatches;
+  fromWork.firstSeconds = w.firstSeconds;
+  fromWork.fallbackReason = w.fallbackReason;
+  return fromWork;
 }
 
 }  // namespace vcgext
