@@ -73,7 +73,7 @@ int CountBeside(const Passes& ps, const QuadSimplifyParams& params, Count& k, qu
         // layout pass goes on down to a bound of the recount (recountFloorFactor x the coarse
         // count) or, when it is already below that, waits where it is, and then follows the
         // recount's live count.
-        if (k.c.error.empty() && 16L * k.c.patches > long(k.coarse.mesh.F.size())) {
+        if (k.c.error.empty() && CountBoundedByStart(k.c.patches, long(k.coarse.mesh.F.size()))) {
           gate.RaiseFloor(params.recountFloorFactor * k.c.patches);
           k.c = ps.Run(ps.start, wcp, Progress(nullptr), nullptr, nullptr, nullptr, &gate);
           k.recounted = true;
@@ -172,7 +172,7 @@ QuadSimplifyResult EqualizedLayout(const TriData& input, const TriData& start, c
   }
   // A count above 1/16 of the coarse start's triangles (its quads reduced less than 8x) is bounded
   // by that start's resolution: count again on the real start mesh.
-  const bool recount = k.recounted || (&countStart != &start && 16L * c.patches > long(countStart.F.size()));
+  const bool recount = k.recounted || (&countStart != &start && CountBoundedByStart(c.patches, long(countStart.F.size())));
   if (recount && !k.recounted) {
     c = ps.Run(start, k.params, prog.Sub(0, 30));
     if (!c.error.empty()) return c;

@@ -7,14 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "vcg_ext/quad/simplify_internal.h"
 
 namespace vcgext {
 
 bool StartLimitedResult(int patches, long startFaces, int target) {
-  if (target > 0) return !BudgetReached(patches, target);
-  return 16L * patches > startFaces;
+  return target > 0 ? !BudgetReached(patches, target) : CountBoundedByStart(patches, startFaces);
 }
 
 namespace {
@@ -51,8 +51,12 @@ std::string FirstStartRefused(const TriData& input, const QuadSimplifyParams& pa
   const double diag = BBoxDiagonal(input.V);
   const bool byArea = params.coverageUnprojectablePct > 0;
   const simplify_internal::Coverage c = simplify_internal::InterpolationCoverage(input, r.quads, byArea);
+  // the nearest of the RMS triggers (coverage guard, start refinement, rescue) that are on
+  double far = std::numeric_limits<double>::infinity();
+  for (const double permille : {params.coverageRmsPermille, params.startRmsPermille, params.rescueRmsPermille})
+    if (permille > 0) far = std::min(far, permille / 1000.0 * diag);
   char buf[160];
-  if (params.coverageRmsPermille > 0 && c.rms > params.coverageRmsPermille / 1000.0 * diag) {
+  if (c.rms > far) {
     std::snprintf(buf, sizeof buf, "its limit is %.3g per mille from the input (RMS)", 1000 * c.rms / diag);
     return buf;
   }
@@ -60,22 +64,7 @@ std::string FirstStartRefused(const TriData& input, const QuadSimplifyParams& pa
     std::snprintf(buf, sizeof buf, "%.3g %% of the input is beyond its limit", c.unreachedPct);
     return buf;
   }
-  for (const double permille : {params.startRmsPermille, params.rescueRmsPermille})
-    if (permille > 0 && c.rms > permille / 1000.0 * diag) {
-      std::snprintf(buf, sizeof buf, "its limit is %.3g per mille from the input (RMS)", 1000 * c.rms / diag);
-      return buf;
-    }
   return {};
-}
-
-// The simplification from the start ChooseStartMesh(input, sp) picks (no first start).
-WorkingStartResult FromWorkingResolution(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
-                                         const std::vector<double>& M, const QuadSimplifyParams& params,
-                                         const StartMeshParams& sp, vcg::CallBackPos* cb) {
-  WorkingStartResult w;
-  w.start = ChooseStartMesh(input, sp, cb);
-  w.result = SimplifyFrom(input, scene, S, M, params, w.start, cb);
-  return w;
 }
 
 }  // namespace
@@ -112,15 +101,16 @@ WorkingStartResult SimplifyFromWorkingStart(const TriData& input, const EmbreeSc
   const long first = std::max<long>(firstFaces, room);
   const bool dense = firstFaces > 0 && sp.workingFaces > 0 && long(input.F.size()) > sp.workingFaces &&
                      first < sp.workingFaces;
+  const auto t0 = std::chrono::steady_clock::now();
   if (dense) {
-    const auto t0 = std::chrono::steady_clock::now();
     StartMeshParams fp = sp;
     fp.workingFaces = int(first);
     w.start = ChooseStartMesh(input, fp, cb);
+  }
+  // (not decimated, zero-area triangles with coincident corners: the full input with a warning, no
+  // coarser than the working resolution's start: none tried)
+  if (dense && w.start.work.decimated) {
     w.firstStartFaces = int(w.start.work.mesh.F.size());
-    // not decimated (zero-area triangles with coincident corners: the full input, with a warning):
-    // no coarser than the working resolution's start, the same input
-    if (!w.start.work.decimated) return FromWorkingResolution(input, scene, S, M, params, sp, cb);
     const double slivers = SliverSharePct(w.start.work.mesh), inputSlivers = SliverSharePct(input);
     if (slivers > inputSlivers + kMaxAddedSliverPct) {
       char buf[200];
@@ -138,12 +128,9 @@ WorkingStartResult SimplifyFromWorkingStart(const TriData& input, const EmbreeSc
       return w;
     }
   }
-  WorkingStartResult fromWork = FromWorkingResolution(input, scene, S, M, params, sp, cb);
-  fromWork.firstStartFaces = w.firstStartFaces;
-  fromWork.firstPatches = w.firstPatches;
-  fromWork.firstSeconds = w.firstSeconds;
-  fromWork.fallbackReason = w.fallbackReason;
-  return fromWork;
+  w.start = ChooseStartMesh(input, sp, cb);
+  w.result = SimplifyFrom(input, scene, S, M, params, w.start, cb);
+  return w;
 }
 
 }  // namespace vcgext
