@@ -223,6 +223,40 @@ TEST(InputPrep, FarFromOriginWarnsAndAllDegenerateFails) {
   EXPECT_NE(vcgext::PrepareWorkingCopy(flat).error.find("degenerate"), std::string::npos);
 }
 
+// A unit sphere at x = 1e7 in floats (MeshLab 2020.09's layer, the corpus's far1e7.off): float's
+// steps there (1.19) are a third of its diagonal, so the shape is gone: a clear error. The same
+// sphere in doubles keeps its shape (a warning only), and at 1e4 floats (steps 1e-3, 0.03 % of the
+// diagonal) only warn.
+TEST(InputPrep, FloatsThatLostTheShapeAreAnError) {
+  TriData s = testsupport::Icosphere(2);
+  for (auto& p : s.V) p += Vec3(1e7, 0, 0);
+  TriData rounded = s;
+  ASSERT_FALSE(vcgext::RoundCoordinatesToFloat(rounded.V));  // (it spares far objects)
+  for (auto& p : rounded.V)
+    for (int k = 0; k < 3; ++k) {
+      volatile float f = float(p[k]);
+      p[k] = double(f);
+    }
+  const WorkingCopy lost = vcgext::PrepareWorkingCopy(rounded);
+  EXPECT_NE(lost.error.find("shape is lost"), std::string::npos) << lost.error;
+  EXPECT_TRUE(lost.mesh.F.empty());
+  const WorkingCopy exact = vcgext::PrepareWorkingCopy(s);
+  EXPECT_EQ(exact.error, "");
+  ASSERT_EQ(exact.warnings.size(), 1u);
+  EXPECT_NE(exact.warnings[0].find("far from the origin"), std::string::npos);
+  TriData near = testsupport::Icosphere(2);
+  for (auto& p : near.V) {
+    p += Vec3(1e4, 0, 0);
+    for (int k = 0; k < 3; ++k) {
+      volatile float f = float(p[k]);
+      p[k] = double(f);
+    }
+  }
+  const WorkingCopy nearCopy = vcgext::PrepareWorkingCopy(near);
+  EXPECT_EQ(nearCopy.error, "");
+  EXPECT_EQ(nearCopy.warnings.size(), 1u);
+}
+
 TEST(InputPrep, CoincidentVerticesThatMustStayApartAreNotMerged) {
   // two tetrahedra touching at one point, each with its own copy of that point (a manifold
   // mesh as given, as cow.off and diplodocus.off of the data set): merging would make it

@@ -188,13 +188,40 @@ std::string Plural(int n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
-void PrecisionWarning(const std::vector<Vec3>& V, WorkingCopy& w) {
+// Coordinates that float rounding has moved by more than this share of the bbox diagonal: the
+// model's shape is gone (far1e7.off of the bad-input corpus, a unit sphere at x = 1e7, is a blob of
+// 1-unit steps that the pipeline turned into 4 728 patches in 314 s): an error, not a warning.
+constexpr double kLostShapeQuantum = 1e-2;
+
+bool AllFloats(const std::vector<Vec3>& V) {
+  for (const Vec3& p : V)
+    for (int k = 0; k < 3; ++k) {
+      volatile float f = float(p[k]);  // (see RoundCoordinatesToFloat)
+      if (double(f) != p[k]) return false;
+    }
+  return true;
+}
+
+// A warning when single-precision storage rounds the positions by more than 1e-5 of the
+// diagonal; an error when it rounds them by more than kLostShapeQuantum and they are in fact
+// floats (MeshLab 2020.09's layers; a double layer keeps its shape).
+void CheckPrecision(const std::vector<Vec3>& V, WorkingCopy& w) {
   double far = 0;
   for (const auto& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
   const double diag = BBoxDiagonal(V);
   const double quantum = far * std::ldexp(1.0, -23);  // single-precision spacing at |x| = far
   if (!(diag > 0) || quantum <= 1e-5 * diag) return;
   char buf[400];
+  if (quantum > kLostShapeQuantum * diag && AllFloats(V)) {
+    std::snprintf(buf, sizeof buf,
+                  "coordinates are far from the origin (up to %.3g, %.3g times the model's size) and stored as "
+                  "single-precision floats, which round positions to steps of %.3g (%.2g %% of the bounding-box "
+                  "diagonal): the model's shape is lost; move it near the origin in the program that wrote the "
+                  "file (MeshLab reads coordinates as floats)",
+                  far, far / diag, quantum, 100 * quantum / diag);
+    w.error = buf;
+    return;
+  }
   std::snprintf(buf, sizeof buf,
                 "coordinates are far from the origin (up to %.3g, %.3g times the model's size): MeshLab stores "
                 "single-precision floats, so positions are rounded to steps of %.3g (%.2g %% of the bounding-box "
@@ -318,7 +345,8 @@ namespace {
 WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   WorkingCopy w;
   const int n = int(raw.V.size());
-  PrecisionWarning(raw.V, w);
+  CheckPrecision(raw.V, w);
+  if (!w.error.empty()) return w;
   std::vector<int> rep(n);
   if (merge) rep = MergeExactDuplicates(raw.V, &w.mergedVertices);
   else std::iota(rep.begin(), rep.end(), 0);
