@@ -45,6 +45,7 @@ inline const char* kEqualizedLayout = "equalizedLayout";  ///< bool: the paper's
 inline const char* kEdgeSwaps = "edgeSwaps";              ///< bool
 inline const char* kRegularity = "regularity";            ///< float, QuadSimplifyParams::valenceWeight (0 = off)
 inline const char* kSwapSweep = "swapSweep";              ///< int, QuadSimplifyParams::swapSweepChain (0 = off)
+inline const char* kSweepTolerance = "sweepTolerance";    ///< float, percent: QuadSimplifyParams::sweepRmsTolerance x 100 (< 0: no guard)
 inline const char* kLayoutTrials = "layoutTrials";        ///< int, QuadSimplifyParams::layoutTrials (1 = one pass)
 inline const char* kGuard = "thinPartGuard";              ///< float, fraction of F_M (0 = off)
 inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)

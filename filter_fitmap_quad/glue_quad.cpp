@@ -54,6 +54,13 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
                        "like a collapse. 3: a fifth to a third fewer irregular vertices at the same "
                        "count, the limit error and the unprojectable area a little higher on average; "
                        "0 = the paper (swaps only after collapses; docs/quad.md, Swap sweep)."));
+  par.addParam(RichFloat(param::kSweepTolerance, float(100 * d.sweepRmsTolerance),
+                         "Swap sweep tolerance (%, negative = no check)",
+                         "With the swap sweep: both cages, with and without its chains, are fitted and "
+                         "measured as the report will measure them, and the chains are undone unless the "
+                         "swept cage's RMS limit error is at most this many percent above the unswept one's "
+                         "and it leaves no more of the input unprojectable (two fits more). Negative: the "
+                         "sweep's cage is kept unchecked (docs/quad.md, Swap sweep)."));
   par.addParam(RichInt(param::kLayoutTrials, d.layoutTrials, "Layout trials (with a target, 1-5)",
                        "Beyond the paper, with a target patch count: lay the patches out this many times "
                        "with different regularity weights (yours, then 0, 0.25, 1, 0.05) and keep the cage "
@@ -109,6 +116,7 @@ bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, in
   p.edgeSwaps = ctx.par.getBool(param::kEdgeSwaps);
   p.valenceWeight = ctx.par.getFloat(param::kRegularity);
   p.swapSweepChain = ctx.par.getInt(param::kSwapSweep);
+  p.sweepRmsTolerance = ctx.par.getFloat(param::kSweepTolerance) / 100.0;
   p.layoutTrials = ctx.par.getInt(param::kLayoutTrials);
   p.validateEveryOperation = ctx.par.getBool(param::kValidate);
   p.deviationFactor = ctx.par.getFloat(param::kGuard);
@@ -128,6 +136,7 @@ bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, in
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
   if (!(p.valenceWeight >= 0 && p.valenceWeight <= 100)) return ctx.Fail("the regularity weight must be in [0, 100]");
   if (p.swapSweepChain < 0 || p.swapSweepChain > 5) return ctx.Fail("the swap sweep must be in [0, 5] swaps per chain");
+  if (!(p.sweepRmsTolerance <= 10)) return ctx.Fail("the swap sweep tolerance must be at most 1000 percent");
   if (p.layoutTrials < 1 || p.layoutTrials > 5) return ctx.Fail("the layout trials must be in [1, 5]");
   if (!(tau >= 0 && tau <= 100)) return ctx.Fail("tau must be in [0, 100] percent");
   if (p.targetPatches < 0) return ctx.Fail("target patches must be >= 0");
@@ -186,6 +195,25 @@ bool QuadFitmaps(GlueContext& ctx, MeshModel& in, const vcgext::WorkingCopy& w, 
   return true;
 }
 
+// The swap sweep's guard (QuadSimplifyParams::sweepRmsTolerance): what it measured and chose.
+void ReportSweepGuard(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
+                      const vcgext::TriData& tri) {
+  ctx.Value("sweep_refused_chains", r.sweepRefusedChains);
+  if (!r.sweepGuarded) return;
+  const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
+  std::ostringstream g;
+  g << "Fitmap Quad Simplification: the swap sweep's cage fits to " << r.sweepSweptRms * pm << " per mille RMS, "
+    << r.sweepSweptUnprojectablePct << " % unprojectable, the unswept one to " << r.sweepUnsweptRms * pm << ", "
+    << r.sweepUnsweptUnprojectablePct << " %: ";
+  if (r.sweepRefusedChains > 0)
+    g << "its " << r.sweepRefusedChains << " chains are undone (more than " << 100 * p.sweepRmsTolerance
+      << " % farther or " << vcgext::kSweepUnprojectableSlackPct << " % more unprojectable)";
+  else
+    g << "kept";
+  g << "; the two fits took " << r.secondsSweepGuard << " s";
+  ctx.log(g.str());
+}
+
 // The log lines and returned values of a simplification (r, for the parameters p, on `tri`).
 void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
                  const vcgext::TriData& tri, std::chrono::steady_clock::time_point t0) {
@@ -235,6 +263,7 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
   ctx.Value("patches", r.patches);
   ctx.Value("irregular_vertices", r.irregularVertices);
   ctx.Value("sweep_chains", r.sweepSwaps);
+  ReportSweepGuard(ctx, r, p, tri);
   ctx.Value("initial_patches", r.initialPatches);
   ctx.Value("count_patches", r.countPatches);
   ctx.Value("kept_paper_layout", r.keptPaperLayout ? 1 : 0);

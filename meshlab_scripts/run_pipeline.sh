@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job, for a newcomer on a fresh Debian 12 machine (as root):
-#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--regularity W] [--swap-sweep S] [--trials K] [--normal-map] [--blender] [INPUT] [OUTDIR]
+#   meshlab_scripts/run_pipeline.sh [--tau PCT] [--patches N] [--regularity W] [--swap-sweep S] [--sweep-tolerance PCT] [--trials K] [--normal-map] [--blender] [INPUT] [OUTDIR]
 # Sets up whatever is missing (apt packages, MeshLab sources, build, plugin install, sample
 # scans), then runs meshlab_scripts/pipeline.mlx through meshlabserver on INPUT (default: the
 # bunny scan bunny00.off) into OUTDIR (default: out/). tau defaults to 1 (percent). --patches N
@@ -9,7 +9,8 @@
 # default 0 = off; docs/quad.md "Regularity").
 # --swap-sweep S: after the simplification, chains of up to S edge swaps that cancel pairs of
 # irregular vertices (default 0 = off, the paper; 3 when regular cages matter; docs/quad.md
-# "Swap sweep").
+# "Swap sweep"). The chains are undone unless the swept cage fits at most --sweep-tolerance PCT
+# percent farther (default 2; negative: kept unchecked) and leaves no more unprojectable.
 # --trials K (with --patches, 1-5) lays the patches out K times with different regularity
 # weights (yours, then 0, 0.25, 1, 0.05) and keeps the cage that fits closest (default 1;
 # docs/quad.md "Layout trials").
@@ -33,6 +34,7 @@ TAU=1
 PATCHES=0
 REGULARITY=0
 SWEEP=0
+SWEEP_TOL=2
 TRIALS=1
 NORMAL=false
 BLENDER=false
@@ -51,12 +53,15 @@ while [ $# -gt 0 ]; do
     --swap-sweep) [ $# -ge 2 ] || { echo "run_pipeline: --swap-sweep takes a whole number from 0 to 5" >&2; exit 2; }
                   SWEEP="$2"; shift 2 ;;
     --swap-sweep=*) SWEEP="${1#--swap-sweep=}"; shift ;;
+    --sweep-tolerance) [ $# -ge 2 ] || { echo "run_pipeline: --sweep-tolerance takes a number (percent)" >&2; exit 2; }
+                       SWEEP_TOL="$2"; shift 2 ;;
+    --sweep-tolerance=*) SWEEP_TOL="${1#--sweep-tolerance=}"; shift ;;
     --trials) [ $# -ge 2 ] || { echo "run_pipeline: --trials takes a whole number from 1 to 5" >&2; exit 2; }
               TRIALS="$2"; shift 2 ;;
     --trials=*) TRIALS="${1#--trials=}"; shift ;;
     --normal-map) NORMAL=true; shift ;;
     --blender) BLENDER=true; shift ;;
-    -h|--help) sed -n '2,29p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
     -*) echo "run_pipeline: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) args+=("$1"); shift ;;
   esac
@@ -66,6 +71,7 @@ done
 [[ "$PATCHES" =~ ^[0-9]+$ ]] || { echo "run_pipeline: --patches takes a whole number" >&2; exit 2; }
 [[ "$REGULARITY" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --regularity takes a number >= 0" >&2; exit 2; }
 [[ "$SWEEP" =~ ^[0-5]$ ]] || { echo "run_pipeline: --swap-sweep takes a whole number from 0 to 5" >&2; exit 2; }
+[[ "$SWEEP_TOL" =~ ^-?[0-9]+([.][0-9]+)?$ ]] || { echo "run_pipeline: --sweep-tolerance takes a number (percent)" >&2; exit 2; }
 [[ "$TRIALS" =~ ^[1-5]$ ]] || { echo "run_pipeline: --trials takes a whole number from 1 to 5" >&2; exit 2; }
 [ "$TRIALS" = 1 ] || [ "$PATCHES" != 0 ] || echo "run_pipeline: --trials needs --patches N: one layout" >&2
 
@@ -87,6 +93,7 @@ sed -E -e "s|value=\"[^\"]*\" name=\"tau\"|value=\"$TAU\" name=\"tau\"|" \
        -e "s|value=\"[^\"]*\" name=\"targetPatches\"|value=\"$PATCHES\" name=\"targetPatches\"|" \
        -e "s|value=\"[^\"]*\" name=\"regularity\"|value=\"$REGULARITY\" name=\"regularity\"|" \
        -e "s|value=\"[^\"]*\" name=\"swapSweep\"|value=\"$SWEEP\" name=\"swapSweep\"|" \
+       -e "s|value=\"[^\"]*\" name=\"sweepTolerance\"|value=\"$SWEEP_TOL\" name=\"sweepTolerance\"|" \
        -e "s|value=\"[^\"]*\" name=\"layoutTrials\"|value=\"$TRIALS\" name=\"layoutTrials\"|" \
        -e "s|value=\"[^\"]*\" name=\"outputDir\"|value=\"$OUTDIR\" name=\"outputDir\"|" \
        -e "s|value=\"[^\"]*\" name=\"rendererGrid\"|value=\"$BLENDER\" name=\"rendererGrid\"|" \

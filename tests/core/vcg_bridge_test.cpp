@@ -101,6 +101,33 @@ TEST(VcgBridge, QuadsSharingOppositeCornersRoundTrip) {
   EXPECT_EQ(CanonicalFaceSet(q.F), CanonicalFaceSet(back.F));
 }
 
+// LayerRoundTrip (what the simplification's fitted measures predict the report from) is the
+// layer's own round trip, ExportQuads then ImportQuads, bit for bit: float coordinates, the same
+// faces in the same order with the same first corners. The second quad of the pair sharing
+// opposite corners is split along its other diagonal, so it comes back starting at its corner b.
+TEST(VcgBridge, LayerRoundTripIsExportThenImport) {
+  vcgext::QuadData shared;
+  shared.V = {vcgext::Vec3(0, 0, 0), vcgext::Vec3(1, -1, 0), vcgext::Vec3(2, 0, 0), vcgext::Vec3(1, 1, 0),
+              vcgext::Vec3(1, -1, 1), vcgext::Vec3(1, 1, 1)};
+  shared.F = {{0, 1, 2, 3}, {0, 4, 2, 5}};
+  vcgext::QuadData grid = Grid(3);
+  for (auto& v : grid.V) v += vcgext::Vec3(1.0 / 3, 1.0 / 7, 0.1);  // not floats
+  for (const vcgext::QuadData& q : {shared, grid}) {
+    vcgext::TMesh m;
+    vcgext::ExportQuads(q, m);
+    vcgext::QuadData back;
+    ASSERT_EQ(vcgext::ImportQuads(m, back), "");
+    const vcgext::QuadData trip = vcgext::LayerRoundTrip(q);
+    EXPECT_EQ(trip.V, back.V);
+    EXPECT_EQ(trip.F, back.F);
+  }
+  const vcgext::QuadData trip = vcgext::LayerRoundTrip(shared);
+  ASSERT_EQ(trip.F.size(), 2u);
+  EXPECT_EQ(trip.F[0], shared.F[0]);
+  EXPECT_EQ(trip.F[1], (vcgext::Quad{4, 2, 5, 0}));
+  EXPECT_NE(vcgext::LayerRoundTrip(grid).V, grid.V);  // rounded to float
+}
+
 TEST(VcgBridge, ExportTrianglesWritesQuality) {
   auto d = testsupport::PlaneGrid(3, 3);
   std::vector<double> q(d.V.size());

@@ -168,6 +168,8 @@ def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
     (lambda ms: ms.generate_fitmap_quad_simplification(regularity=-1), "the regularity weight must be in [0, 100]"),
     (lambda ms: ms.generate_fitmap_quad_simplification(layouttrials=0), "the layout trials must be in [1, 5]"),
     (lambda ms: ms.generate_fitmap_quad_simplification(swapsweep=6), "the swap sweep must be in [0, 5] swaps per chain"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(swapsweep=3, sweeptolerance=2000),
+     "the swap sweep tolerance must be at most 1000 percent"),
     (lambda ms: ms.generate_fitmap_quad_simplification(firstworkingfaces=-1),
      "the first start of a dense input must be >= 0 triangles"),
     (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
@@ -244,14 +246,21 @@ def test_swap_sweep_gives_fewer_irregular_vertices_at_the_same_count():
     # the filter's "swapSweep" (QuadSimplifyParams::swapSweepChain, default 0 = off): chains of swaps
     # after the last collapse cancel pairs of singularities without changing the patch count
     # (the same as run_pipeline.sh --swap-sweep; docs/quad.md "Swap sweep")
+    # sweeptolerance=-1: the sweep unchecked; the default (2 %) fits both cages and undoes the
+    # chains unless the swept one fits as closely: then it is one of the two cages above
     got = {}
     for chain in (0, 3):
         ms = ellipsoid_meshset()
-        got[chain] = ms.generate_fitmap_quad_simplification(targetpatches=150, swapsweep=chain)
+        got[chain] = ms.generate_fitmap_quad_simplification(targetpatches=150, swapsweep=chain, sweeptolerance=-1)
     assert got[0]["sweep_chains"] == 0
     assert got[3]["sweep_chains"] > 0
     assert got[3]["patches"] == got[0]["patches"]
     assert got[3]["irregular_vertices"] < got[0]["irregular_vertices"], (got[0], got[3])
+    guarded = ellipsoid_meshset().generate_fitmap_quad_simplification(targetpatches=150, swapsweep=3)
+    assert guarded["sweep_chains"] + guarded["sweep_refused_chains"] == got[3]["sweep_chains"], guarded
+    assert guarded["sweep_chains"] * guarded["sweep_refused_chains"] == 0
+    same = got[3] if guarded["sweep_chains"] > 0 else got[0]
+    assert guarded["irregular_vertices"] == same["irregular_vertices"]
 
 
 def test_dense_input_is_simplified_from_its_first_start():

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -20,7 +21,9 @@ using quadtest::SyntheticFitmaps;
 #include "vcg_ext/quad/quad_simplify.h"
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/vcg_bridge.h"
+#include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/cc_fit.h"
+#include "vcg_ext/quad/simplify_internal.h"
 #include "vcg_ext/subdiv/limit_surface.h"
 
 using vcgext::Vec3;
@@ -438,6 +441,7 @@ TEST(QuadSimplify, SwapSweepCancelsSingularitiesOnATorus) {
     p.useMFitmap = false;
     p.validateEveryOperation = true;
     p.swapSweepChain = chain;
+    p.sweepRmsTolerance = -1;  // the sweep itself (its guard: the next test)
     return vcgext::SimplifyToQuads(t, scene, S, M, p);
   };
   const auto r3 = run(3), r1 = run(1), r0 = run(0);
@@ -539,4 +543,72 @@ TEST(QuadSimplify, BudgetNotReachedFromAStartTooCoarseIsRefined) {
   const auto re = rotor.Run(easy);
   EXPECT_LE(re.patches, 560 + 560 / 50);
   EXPECT_EQ(re.startRefinements, 0);
+}
+
+// The swap sweep's guard (QuadSimplifyParams::sweepRmsTolerance, docs/quad.md "Swap sweep"): on
+// the torus above at 128 patches, chains of 3, the guard's two measures are the report's (the
+// fit filter's FitAndBake on the cage as its layer reads it back, LayerRoundTrip), and the result
+// is the swept cage exactly when the rule holds (RMS within the tolerance, unprojectable within
+// kSweepUnprojectableSlackPct), else the unswept cage bit for bit. Tolerances 0 and 1000 (any
+// error rise) are both checked; which way each goes is the rule's, not the test's.
+TEST(QuadSimplify, SweepGuardKeepsTheSweptCageOnlyWhenItFitsAsClose) {
+  const auto t = Torus(64, 24, 1.0, 0.35);
+  vcgext::EmbreeScene scene(t);
+  std::vector<double> S, M;
+  SyntheticFitmaps(t, S, M);
+  auto run = [&](int chain, double tolerance) {
+    vcgext::QuadSimplifyParams p;
+    p.targetPatches = 128;
+    p.useMFitmap = false;
+    p.swapSweepChain = chain;
+    p.sweepRmsTolerance = tolerance;
+    return vcgext::SimplifyToQuads(t, scene, S, M, p);
+  };
+  const auto r0 = run(0, 0.02), swept = run(3, -1);
+  ASSERT_GT(swept.sweepSwaps, 0);
+  EXPECT_FALSE(swept.sweepGuarded);
+  namespace si = vcgext::simplify_internal;
+  const si::FittedMeasure u = si::MeasureAsReported(t, scene, r0.quads, true);
+  const si::FittedMeasure w = si::MeasureAsReported(t, scene, swept.quads, true);
+  // the measures against the report of the fit filter (FitAndBake) on the layer's cage
+  const double pm = 1000 / vcgext::BBoxDiagonal(t.V);
+  for (const auto& [q, m] : {std::make_pair(&r0.quads, u), std::make_pair(&swept.quads, w)}) {
+    const vcgext::FitBakeResult report = vcgext::FitAndBake(vcgext::LayerRoundTrip(*q), t, scene);
+    ASSERT_EQ(report.error, "");
+    EXPECT_NEAR(m.rms * pm, report.metrics.rmsLimitPermille, 1e-9 * report.metrics.rmsLimitPermille);
+    EXPECT_NEAR(m.unprojectablePct, report.metrics.unprojectablePct, 1e-9);
+  }
+  std::printf("torus, 128 patches: fitted RMS %.5f unswept, %.5f swept (%d chains); unprojectable %.3f / %.3f %%\n",
+              u.rms * pm, w.rms * pm, swept.sweepSwaps, u.unprojectablePct, w.unprojectablePct);
+  for (const double tolerance : {0.0, 1000.0}) {
+    const auto g = run(3, tolerance);
+    ASSERT_TRUE(g.sweepGuarded);
+    EXPECT_DOUBLE_EQ(g.sweepUnsweptRms, u.rms);
+    EXPECT_DOUBLE_EQ(g.sweepSweptRms, w.rms);
+    EXPECT_DOUBLE_EQ(g.sweepSweptUnprojectablePct, w.unprojectablePct);
+    const bool keep = si::SweepKept(u, w, tolerance);
+    const auto& expect = keep ? swept : r0;
+    EXPECT_EQ(g.quads.F, expect.quads.F) << "tolerance " << tolerance;
+    EXPECT_EQ(g.quads.V, expect.quads.V);
+    EXPECT_EQ(g.irregularVertices, expect.irregularVertices);
+    EXPECT_EQ(g.sweepSwaps, keep ? swept.sweepSwaps : 0);
+    EXPECT_EQ(g.sweepRefusedChains, keep ? 0 : swept.sweepSwaps);
+  }
+}
+
+// The guard's rule on numbers: RMS within the tolerance (a fraction), the unprojectable share
+// within 0.01 percentage points; an infinite measure (a failed fit) is never kept.
+TEST(QuadSimplify, SweepGuardRule) {
+  namespace si = vcgext::simplify_internal;
+  const double inf = std::numeric_limits<double>::infinity();
+  const si::FittedMeasure u{1.0, 0.10};
+  EXPECT_TRUE(si::SweepKept(u, {1.019, 0.10}, 0.02));
+  EXPECT_TRUE(si::SweepKept(u, {0.5, 0.0}, 0.0));
+  EXPECT_FALSE(si::SweepKept(u, {1.021, 0.10}, 0.02));
+  EXPECT_TRUE(si::SweepKept(u, {1.0, 0.10 + 0.5 * vcgext::kSweepUnprojectableSlackPct}, 0.0));
+  EXPECT_FALSE(si::SweepKept(u, {0.9, 0.10 + 2 * vcgext::kSweepUnprojectableSlackPct}, 0.02));
+  EXPECT_FALSE(si::SweepKept(u, {inf, 0.0}, 1000.0));
+  EXPECT_TRUE(si::SweepKept({inf, 100.0}, {1.0, 0.0}, 0.0));
+  EXPECT_FALSE(si::SweepKept(u, {1.5, 0.10}, 0.4));
+  EXPECT_TRUE(si::SweepKept(u, {1.5, 0.10}, 0.5));
 }

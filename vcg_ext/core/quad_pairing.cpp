@@ -120,4 +120,22 @@ std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousRes
   return "";
 }
 
+QuadData LayerRoundTrip(const QuadData& q) {
+  QuadData out;
+  out.V.reserve(q.V.size());
+  for (const Vec3& v : q.V) out.V.emplace_back(double(float(v[0])), double(float(v[1])), double(float(v[2])));
+  const std::vector<int> start = FreeDiagonalStarts(q);
+  FauxHalves h;
+  for (size_t i = 0; i < q.F.size(); ++i) {
+    const auto& f = q.F[i];
+    const int s = start[i];  // ExportQuads' halves: the diagonal s-(s+2) is faux
+    h.tris.push_back({f[s], f[s + 1], f[s + 2]});
+    h.fauxSlot.push_back(2);
+    h.tris.push_back({f[s], f[s + 2], f[(s + 3) % 4]});
+    h.fauxSlot.push_back(0);
+  }
+  if (!PairFauxHalves(h, out, nullptr).empty()) out.F.clear();
+  return out;
+}
+
 }  // namespace vcgext

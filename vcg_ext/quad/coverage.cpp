@@ -8,6 +8,7 @@
 #include <map>
 
 #include "vcg_ext/fit/bake.h"
+#include "vcg_ext/core/quad_pairing.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/quad/simplify_internal.h"
 #include "vcg_ext/subdiv/limit_surface.h"
@@ -134,13 +135,32 @@ double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData&
   return *std::min_element(f.dataRmsPerIteration.begin(), f.dataRmsPerIteration.end());
 }
 
-double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments) {
+FittedMeasure MeasureFitted(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments,
+                            bool unprojectable) {
+  FittedMeasure m;
   const FitResult f = FitCatmullClark(q, input, scene);
-  if (!f.error.empty()) return std::numeric_limits<double>::infinity();
+  if (!f.error.empty()) return m;
   const LimitSurface ls = LimitSurface::FromQuads(f.control);
-  if (!ls.Ok() || ls.NumFaces() == 0) return std::numeric_limits<double>::infinity();
+  if (!ls.Ok() || ls.NumFaces() == 0) return m;
   const int n = AutoMetricSegments(long(input.F.size()), ls.NumFaces(), minSegments);
-  return ReferenceToSurfaceError(input, TessellateLimit(ls, f.control.V, n).mesh).first;
+  const LimitTessellation t = TessellateLimit(ls, f.control.V, n);
+  const EmbreeScene limScene(t.mesh);
+  m.rms = ReferenceToSurfaceError(input, limScene).first;
+  if (unprojectable)
+    m.unprojectablePct = UnprojectablePercent(t, limScene, input, scene,
+                                              FitBakeParams().maxDistPercent / 100.0 * BBoxDiagonal(input.V));
+  return m;
+}
+
+double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments) {
+  return MeasureFitted(input, scene, q, minSegments, false).rms;
+}
+
+FittedMeasure MeasureAsReported(const TriData& input, const EmbreeScene& scene, const QuadData& quads,
+                                bool unprojectable) {
+  const QuadData q = LayerRoundTrip(quads);
+  if (q.F.empty()) return FittedMeasure();
+  return MeasureFitted(input, scene, q, FitBakeParams().limitSegments, unprojectable);
 }
 
 QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, const EmbreeScene& scene,

@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <limits>
 
-#include "vcg_ext/fit/bake.h"
 #include "vcg_ext/quad/simplify_internal.h"
 
 namespace vcgext {
@@ -35,9 +34,7 @@ bool TrialBeats(const QuadSimplifyResult& g, double gFit, const QuadSimplifyResu
 }  // namespace
 
 double TrialFittedRms(const TriData& input, const EmbreeScene& scene, const QuadData& quads) {
-  QuadData q = quads;
-  for (Vec3& v : q.V) v = Vec3(double(float(v[0])), double(float(v[1])), double(float(v[2])));
-  return FittedReferenceRms(input, scene, q, FitBakeParams().limitSegments);
+  return MeasureAsReported(input, scene, quads, false).rms;
 }
 
 QuadSimplifyResult LayoutTrials(const TriData& input, const TriData& start, const EmbreeScene& scene,

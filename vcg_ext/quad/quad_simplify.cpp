@@ -273,6 +273,35 @@ QuadSimplifyResult SimplifyToQuadsUnswept(const TriData& input, const EmbreeScen
   if (budget) return r;
   return RescueByBudget(input, scene, S, M, params, cb, startMesh ? startMesh : &input, std::move(r));
 }
+
+}  // namespace
+
+bool simplify_internal::SweepKept(const FittedMeasure& unswept, const FittedMeasure& swept, double tolerance) {
+  return swept.rms <= (1 + tolerance) * unswept.rms &&
+         swept.unprojectablePct <= unswept.unprojectablePct + kSweepUnprojectableSlackPct;
+}
+
+namespace {
+// The sweep's guard (QuadSimplifyParams::sweepRmsTolerance): `swept` when its fitted limit is
+// as close to the input as `unswept`'s (within the tolerance) and leaves no more of it
+// unprojectable (within kSweepUnprojectableSlackPct), else `unswept`; both with the measures.
+QuadSimplifyResult GuardSweep(const TriData& input, const EmbreeScene& scene, const QuadSimplifyParams& params,
+                              QuadSimplifyResult unswept, QuadSimplifyResult swept) {
+  const auto t0 = Clock::now();
+  const FittedMeasure u = MeasureAsReported(input, scene, unswept.quads, true);
+  const FittedMeasure w = MeasureAsReported(input, scene, swept.quads, true);
+  const bool keep = SweepKept(u, w, params.sweepRmsTolerance);
+  QuadSimplifyResult& r = keep ? swept : unswept;
+  r.sweepGuarded = true;
+  r.sweepRefusedChains = keep ? 0 : swept.sweepSwaps;
+  r.sweepUnsweptRms = u.rms;
+  r.sweepSweptRms = w.rms;
+  r.sweepUnsweptUnprojectablePct = u.unprojectablePct;
+  r.sweepSweptUnprojectablePct = w.unprojectablePct;
+  r.secondsSweepGuard = Since(t0);
+  r.secondsTotal = swept.secondsTotal + r.secondsSweepGuard;  // the sweep ran either way
+  return std::move(r);
+}
 }  // namespace
 
 // Every choice above (the ladder, the trials, the start refinement, the rescue) judges cages
@@ -285,8 +314,11 @@ QuadSimplifyResult SimplifyToQuads(const TriData& input, const EmbreeScene& scen
                                    vcg::CallBackPos* cb, const std::vector<Quad>* initialQuads,
                                    const TriData* startMesh) {
   QuadSimplifyResult r = SimplifyToQuadsUnswept(input, scene, S, M, params, cb, initialQuads, startMesh);
-  SweepCage(input, scene, S, M, params, r);
-  return r;
+  if (params.swapSweepChain <= 0) return r;
+  QuadSimplifyResult swept = r;
+  SweepCage(input, scene, S, M, params, swept);
+  if (!swept.error.empty() || swept.sweepSwaps == 0 || params.sweepRmsTolerance < 0) return swept;
+  return GuardSweep(input, scene, params, std::move(r), std::move(swept));
 }
 
 }  // namespace vcgext

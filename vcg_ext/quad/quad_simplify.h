@@ -37,6 +37,12 @@
 namespace vcgext {
 
 /// Parameters of SimplifyToQuads. There is no tau here: the M-Fitmap already encodes it.
+/// The swap sweep's guard (QuadSimplifyParams::sweepRmsTolerance): how much more of the input's
+/// area (percentage points) the swept cage's fitted limit may leave unprojectable than the unswept
+/// one's: 0.01, the measure's noise between cages of the same quality (triceratops @ 400: 0.09 ->
+/// 0.20 % with the sweep is refused).
+inline constexpr double kSweepUnprojectableSlackPct = 0.01;
+
 struct QuadSimplifyParams {
   int targetPatches = 0;          ///< stop at this many patches (0 = only when no feasible collapse is left)
   bool useMFitmap = true;         ///< the projectability test of §3.3 (false: S-cost only, needs targetPatches)
@@ -49,6 +55,12 @@ struct QuadSimplifyParams {
   /// only in the 1-ring of each collapse's survivor; 3 cuts the irregular vertices by a fifth to a
   /// third but moves the limit error and the unprojectable area up a little on average).
   int swapSweepChain = 0;
+  /// The sweep's guard (docs/quad.md "Swap sweep"): when the sweep kept chains, both cages are
+  /// fitted and measured as the pipeline's report will measure them (RMS limit error and
+  /// unprojectable share of the fitted limit; two fits); the swept cage is kept only when its
+  /// RMS limit error is at most this fraction above the unswept one's and its unprojectable share
+  /// at most kSweepUnprojectableSlackPct above. Negative: no guard (the sweep's cage is kept).
+  double sweepRmsTolerance = 0.02;
   int fitRounds = 2;              ///< smoothing + re-interpolation rounds per step (paper: 2)
   double smoothingWeight = 0.5;   ///< move this fraction towards the mean of incident centroids (paper: 1/2)
   double solveTolPercent = 1e-5;  ///< interpolation solve tolerance, % of the bbox diagonal (absolute residual)
@@ -248,6 +260,13 @@ struct QuadSimplifyResult {
   std::vector<int> valenceHistogram;  ///< index = valence
   int collapses = 0, swaps = 0, doublets = 0;
   int sweepSwaps = 0;  ///< swap chains kept by the final sweep (swapSweepChain)
+  /// The sweep's guard (sweepRmsTolerance), when it ran: the chains of a refused sweep (then
+  /// sweepSwaps is 0 and the cage is the unswept one), both cages' RMS limit error (absolute) and
+  /// unprojectable share (%) as the report measures them, and its time (in secondsTotal).
+  int sweepRefusedChains = 0;
+  bool sweepGuarded = false;
+  double sweepUnsweptRms = 0, sweepSweptRms = 0, sweepUnsweptUnprojectablePct = 0, sweepSweptUnprojectablePct = 0;
+  double secondsSweepGuard = 0;
   int boundaryCorners = 0;        ///< boundary corner removals (open boundaries)
   int rejectedByM = 0;            ///< collapses refused by the M-fitmap test
   int rejectedTopology = 0;       ///< refused by the operators (link condition, boundary, valence)

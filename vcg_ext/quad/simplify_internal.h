@@ -76,6 +76,27 @@ double FittedRms(const TriData& input, const EmbreeScene& scene, const QuadData&
 /// limitSegments, 8; a coarser one adds its chords' error, which differs between cages).
 double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments = 4);
 
+/// FittedReferenceRms (`rms`) and, with `unprojectable`, the report's unprojectable share of the
+/// fitted limit (`unprojectablePct`, UnprojectablePercent on the same tessellation, the fit
+/// filter's maxDistPercent): what the pipeline's report will say of cage q. Infinite RMS (and
+/// 100 %) when the fit fails.
+struct FittedMeasure {
+  double rms = std::numeric_limits<double>::infinity();
+  double unprojectablePct = 100.0;
+};
+FittedMeasure MeasureFitted(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments,
+                            bool unprojectable);
+/// MeasureFitted as the pipeline's report measures cage q: at the fit filter's limitSegments, on
+/// q as the fit filter reads it from MeshLab's layer (LayerRoundTrip: float coordinates, corners
+/// that may start elsewhere; the fit amplifies both: triceratops.off @ 400, one cage: 1.081 per
+/// mille from double coordinates, 1.101 from float ones).
+FittedMeasure MeasureAsReported(const TriData& input, const EmbreeScene& scene, const QuadData& q, bool unprojectable);
+
+/// The swap sweep's guard (QuadSimplifyParams::sweepRmsTolerance): whether the swept cage's
+/// measure `swept` is close enough to the unswept one's: its RMS at most `tolerance` (a fraction)
+/// above, its unprojectable share at most kSweepUnprojectableSlackPct above.
+bool SweepKept(const FittedMeasure& unswept, const FittedMeasure& swept, double tolerance);
+
 /// The end of SimplifyToQuads (quad_simplify.cpp, docs/quad.md "A cage far off"): when cage `r`'s
 /// interpolating limit and its fitted one (FittedReferenceRms) stay farther than
 /// params.rescueRmsPermille from the input, the same count is laid out again under a budget from
@@ -112,10 +133,9 @@ inline QuadSimplifyParams LayoutParams(const QuadSimplifyParams& params, int pat
   return lp;
 }
 
-/// How a layout trial's cage q is judged: FittedReferenceRms as the report measures it (the fit
-/// filter's limitSegments) on q's control points rounded to float, as the fit filter receives them
-/// from MeshLab's layer. The rounding matters: the fit amplifies it (triceratops.off @ 400, one
-/// cage: 1.081 per mille from double coordinates, 1.101 from float ones, 1.288 in the report).
+/// How a layout trial's cage q is judged: its RMS limit error as the report measures it
+/// (MeasureAsReported; triceratops.off @ 400, one cage: 1.081 per mille from double coordinates,
+/// 1.101 from float ones, 1.288 in the report of the fit before keepLowestDataRms).
 double TrialFittedRms(const TriData& input, const EmbreeScene& scene, const QuadData& q);
 
 /// A budget's layout: BudgetLadder once per weight of TrialValenceWeights(valenceWeight,
