@@ -211,24 +211,18 @@ void CheckPrecision(const std::vector<Vec3>& V, WorkingCopy& w) {
   const double diag = BBoxDiagonal(V);
   const double quantum = far * std::ldexp(1.0, -23);  // single-precision spacing at |x| = far
   if (!(diag > 0) || quantum <= 1e-5 * diag) return;
-  char buf[400];
-  if (quantum > kLostShapeQuantum * diag && AllFloats(V)) {
-    std::snprintf(buf, sizeof buf,
-                  "coordinates are far from the origin (up to %.3g, %.3g times the model's size) and stored as "
-                  "single-precision floats, which round positions to steps of %.3g (%.2g %% of the bounding-box "
-                  "diagonal): the model's shape is lost; move it near the origin in the program that wrote the "
-                  "file (MeshLab reads coordinates as floats)",
-                  far, far / diag, quantum, 100 * quantum / diag);
-    w.error = buf;
-    return;
-  }
+  char buf[300];
   std::snprintf(buf, sizeof buf,
                 "coordinates are far from the origin (up to %.3g, %.3g times the model's size): MeshLab stores "
-                "single-precision floats, so positions are rounded to steps of %.3g (%.2g %% of the bounding-box "
-                "diagonal); move the model to the origin first (Filters > Normals, Curvatures and Orientation > "
-                "Transform: Translate, Center, set Origin)",
+                "single-precision floats, which round positions to steps of %.3g (%.2g %% of the bounding-box "
+                "diagonal)",
                 far, far / diag, quantum, 100 * quantum / diag);
-  w.warnings.push_back(buf);
+  if (quantum > kLostShapeQuantum * diag && AllFloats(V))
+    w.error = std::string(buf) + ": the model's shape is lost; move it near the origin in the program that wrote "
+                                 "the file (MeshLab reads coordinates as floats)";
+  else
+    w.warnings.push_back(std::string(buf) + "; move the model to the origin first (Filters > Normals, Curvatures and "
+                                            "Orientation > Transform: Translate, Center, set Origin)");
 }
 
 }  // namespace
