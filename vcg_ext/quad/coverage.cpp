@@ -7,8 +7,8 @@
 #include <limits>
 #include <map>
 
-#include "vcg_ext/fit/bake.h"
 #include "vcg_ext/core/quad_pairing.h"
+#include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/quad/simplify_internal.h"
 #include "vcg_ext/subdiv/limit_surface.h"

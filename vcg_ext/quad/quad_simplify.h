@@ -36,13 +36,13 @@
 
 namespace vcgext {
 
-/// Parameters of SimplifyToQuads. There is no tau here: the M-Fitmap already encodes it.
 /// The swap sweep's guard (QuadSimplifyParams::sweepRmsTolerance): how much more of the input's
 /// area (percentage points) the swept cage's fitted limit may leave unprojectable than the unswept
 /// one's: 0.01, the measure's noise between cages of the same quality (triceratops @ 400: 0.09 ->
 /// 0.20 % with the sweep is refused).
 inline constexpr double kSweepUnprojectableSlackPct = 0.01;
 
+/// Parameters of SimplifyToQuads. There is no tau here: the M-Fitmap already encodes it.
 struct QuadSimplifyParams {
   int targetPatches = 0;          ///< stop at this many patches (0 = only when no feasible collapse is left)
   bool useMFitmap = true;         ///< the projectability test of §3.3 (false: S-cost only, needs targetPatches)
