@@ -233,10 +233,7 @@ TEST(InputPrep, FloatsThatLostTheShapeAreAnError) {
   TriData rounded = s;
   ASSERT_FALSE(vcgext::RoundCoordinatesToFloat(rounded.V));  // (it spares far objects)
   for (auto& p : rounded.V)
-    for (int k = 0; k < 3; ++k) {
-      volatile float f = float(p[k]);
-      p[k] = double(f);
-    }
+    for (int k = 0; k < 3; ++k) p[k] = vcgext::RoundedToFloat(p[k]);
   const WorkingCopy lost = vcgext::PrepareWorkingCopy(rounded);
   EXPECT_NE(lost.error.find("shape is lost"), std::string::npos) << lost.error;
   EXPECT_TRUE(lost.mesh.F.empty());
@@ -247,10 +244,7 @@ TEST(InputPrep, FloatsThatLostTheShapeAreAnError) {
   TriData near = testsupport::Icosphere(2);
   for (auto& p : near.V) {
     p += Vec3(1e4, 0, 0);
-    for (int k = 0; k < 3; ++k) {
-      volatile float f = float(p[k]);
-      p[k] = double(f);
-    }
+    for (int k = 0; k < 3; ++k) p[k] = vcgext::RoundedToFloat(p[k]);
   }
   const WorkingCopy nearCopy = vcgext::PrepareWorkingCopy(near);
   EXPECT_EQ(nearCopy.error, "");

@@ -37,6 +37,15 @@ struct QuadData {
 /// counts quads where neither diagonal is free (s = 0 then).
 std::vector<int> FreeDiagonalStarts(const QuadData& q, int* blocked = nullptr);
 
+/// `x` rounded to the nearest float, as MeshLab 2020.09 stores a coordinate. Through a volatile
+/// float: Debian 12's g++ 12.2 at -O2 vectorizes a loop of double(float(x)) into the identity for
+/// two of the three coordinates (SLP vectorizer; a 5-line reproducer gives 0.1 back unrounded),
+/// which left a few vertices of fandisk.off unrounded.
+inline double RoundedToFloat(double x) {
+  volatile float f = float(x);
+  return double(f);
+}
+
 /// Axis-aligned bounding box diagonal of a point set (0 for an empty set).
 double BBoxDiagonal(const std::vector<Vec3>& V);
 /// Mean length of the mesh's edges, each undirected edge counted once.

@@ -195,10 +195,8 @@ constexpr double kLostShapeQuantum = 1e-2;
 
 bool AllFloats(const std::vector<Vec3>& V) {
   for (const Vec3& p : V)
-    for (int k = 0; k < 3; ++k) {
-      volatile float f = float(p[k]);  // (see RoundCoordinatesToFloat)
-      if (double(f) != p[k]) return false;
-    }
+    for (int k = 0; k < 3; ++k)
+      if (RoundedToFloat(p[k]) != p[k]) return false;
   return true;
 }
 
@@ -282,14 +280,8 @@ bool RoundCoordinatesToFloat(std::vector<Vec3>& V) {
   for (const Vec3& v : V) maxAbs = std::max(maxAbs, v.cwiseAbs().maxCoeff());
   // float's spacing near maxAbs is at most 2^-23 maxAbs: rounding moves a value by half of it
   if (!(std::ldexp(maxAbs, -24) <= 1e-6 * BBoxDiagonal(V))) return false;
-  // Through a volatile float: Debian 12's g++ 12.2 at -O2 vectorizes a loop of double(float(x))
-  // into the identity for two of the three coordinates (SLP vectorizer; a 5-line reproducer gives
-  // 0.1 back unrounded), which left a few vertices of fandisk.off unrounded.
   for (Vec3& v : V)
-    for (int k = 0; k < 3; ++k) {
-      volatile float f = float(v[k]);
-      v[k] = double(f);
-    }
+    for (int k = 0; k < 3; ++k) v[k] = RoundedToFloat(v[k]);
   return true;
 }
 

@@ -123,7 +123,7 @@ std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousRes
 QuadData LayerRoundTrip(const QuadData& q) {
   QuadData out;
   out.V.reserve(q.V.size());
-  for (const Vec3& v : q.V) out.V.emplace_back(double(float(v[0])), double(float(v[1])), double(float(v[2])));
+  for (const Vec3& v : q.V) out.V.emplace_back(RoundedToFloat(v[0]), RoundedToFloat(v[1]), RoundedToFloat(v[2]));
   const std::vector<int> start = FreeDiagonalStarts(q);
   FauxHalves h;
   for (size_t i = 0; i < q.F.size(); ++i) {
