@@ -130,6 +130,7 @@ TEST(RunPipeline, BudgetLadderRefusesACageThatLostAPartAndReachesTheBudgetFromAC
   EXPECT_NE(log.find("but was not kept: fitted"), std::string::npos) << log;
   EXPECT_NE(log.find("from a start decimated to 1600 triangles"), std::string::npos) << log;
   EXPECT_EQ(log.find("was not reached"), std::string::npos) << "no budget warning";
+  EXPECT_EQ(o.run.output.find("warning: Fitmap Quad Simplification: the budget"), std::string::npos) << o.run.output;
   EXPECT_NEAR(e2e::JsonNumber(json, "patches"), 400, 8) << json;
   // the kept cage fits the scan: RMS limit under 3 per mille (the refused cage: 22), unprojectable
   // under 0.25 % (0.15; the refused cage 3.7 %, issue 13's target 0.1 % is not met here)
@@ -149,6 +150,10 @@ TEST(RunPipeline, BudgetLadderRefusesARetryTheReportWouldFindFarOff) {
   ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
   EXPECT_NE(o.log.find("but was not kept: fitted, its limit is"), std::string::npos) << o.log;
   EXPECT_NE(o.log.find("was not reached"), std::string::npos) << "the budget warning";
+  // and run_pipeline.sh repeats it last (report.json has only the fit's warnings)
+  const size_t w = o.run.output.find("[run_pipeline] warning: Fitmap Quad Simplification: the budget of 200");
+  EXPECT_NE(w, std::string::npos) << o.run.output;
+  EXPECT_GT(w, o.run.output.find("[run_pipeline] report")) << "after the report";
   EXPECT_GT(e2e::JsonNumber(o.json, "patches"), 300) << o.json;
   EXPECT_LE(e2e::JsonNumber(o.json, "rms_limit_permille"), 4.5) << o.json;
   EXPECT_LE(e2e::JsonNumber(o.json, "unprojectable_pct"), 0.1) << o.json;
