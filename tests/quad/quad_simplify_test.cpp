@@ -577,6 +577,7 @@ TEST(QuadSimplify, SweepGuardKeepsTheSweptCageOnlyWhenItFitsAsClose) {
     ASSERT_EQ(report.error, "");
     EXPECT_NEAR(m.rms * pm, report.metrics.rmsLimitPermille, 1e-9 * report.metrics.rmsLimitPermille);
     EXPECT_NEAR(m.unprojectablePct, report.metrics.unprojectablePct, 1e-9);
+    EXPECT_EQ(m.folds, report.metrics.limitFolds);  // what the budget ladder judges flips by
   }
   std::printf("torus, 128 patches: fitted RMS %.5f unswept, %.5f swept (%d chains); unprojectable %.3f / %.3f %%\n",
               u.rms * pm, w.rms * pm, swept.sweepSwaps, u.unprojectablePct, w.unprojectablePct);

@@ -248,6 +248,10 @@ inline int AutoMetricSegments(long refFaces, int patches, int minSegments) {
                                         int(std::ceil(std::sqrt(2.0 * double(refFaces) / std::max(patches, 1))))));
 }
 
+/// Above this share of the reference's area unreached by projection from the limit
+/// (FitBakeMetrics::unprojectablePct, in %) the report warns (ResultWarnings).
+constexpr double kUnprojectableWarningPct = 1.0;
+
 /// Parameters of FitAndBake.
 struct FitBakeParams {
   FitParams fit;

@@ -12,11 +12,11 @@ namespace vcgext {
 std::vector<std::string> ResultWarnings(const FitBakeResult& r) {
   std::vector<std::string> w;
   char buf[400];
-  if (r.metrics.unprojectablePct > 1.0) {
+  if (r.metrics.unprojectablePct > kUnprojectableWarningPct) {
     std::snprintf(buf, sizeof buf,
-                  "%.2f %% of the reference area is not reached by projection from the limit surface (more than 1 %%): "
+                  "%.2f %% of the reference area is not reached by projection from the limit surface (more than %g %%): "
                   "the displacement does not cover it; use a smaller tau or more patches",
-                  r.metrics.unprojectablePct);
+                  r.metrics.unprojectablePct, kUnprojectableWarningPct);
     w.push_back(buf);
   }
   if (r.metrics.maxLimitPermille > 20.0) {

@@ -146,6 +146,7 @@ FittedMeasure MeasureFitted(const TriData& input, const EmbreeScene& scene, cons
   const LimitTessellation t = TessellateLimit(ls, f.control.V, n);
   const EmbreeScene limScene(t.mesh);
   m.rms = ReferenceToSurfaceError(input, limScene).first;
+  m.folds = FoldedTriangles(t);
   if (unprojectable)
     m.unprojectablePct = UnprojectablePercent(t, limScene, input, scene,
                                               FitBakeParams().maxDistPercent / 100.0 * BBoxDiagonal(input.V));

@@ -78,11 +78,13 @@ double FittedReferenceRms(const TriData& input, const EmbreeScene& scene, const 
 
 /// FittedReferenceRms (`rms`) and, with `unprojectable`, the report's unprojectable share of the
 /// fitted limit (`unprojectablePct`, UnprojectablePercent on the same tessellation, the fit
-/// filter's maxDistPercent): what the pipeline's report will say of cage q. Infinite RMS (and
-/// 100 %) when the fit fails.
+/// filter's maxDistPercent): what the pipeline's report will say of cage q, and the folds of that
+/// tessellation (FoldedTriangles, the report's `folded_triangles_limit`). Infinite RMS (and 100 %,
+/// and folds -1) when the fit fails.
 struct FittedMeasure {
   double rms = std::numeric_limits<double>::infinity();
   double unprojectablePct = 100.0;
+  int folds = -1;
 };
 FittedMeasure MeasureFitted(const TriData& input, const EmbreeScene& scene, const QuadData& q, int minSegments,
                             bool unprojectable);
