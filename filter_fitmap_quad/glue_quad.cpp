@@ -199,8 +199,11 @@ bool QuadFitmaps(GlueContext& ctx, MeshModel& in, const vcgext::WorkingCopy& w, 
 void ReportSweepGuard(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
                       const vcgext::TriData& tri) {
   ctx.Value("sweep_refused_chains", r.sweepRefusedChains);
-  if (!r.sweepGuarded) return;
   const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
+  // the guard's two measures, each what the fit filter's report will say of that cage (-1: unguarded)
+  ctx.Value("sweep_swept_rms_permille", r.sweepGuarded ? r.sweepSweptRms * pm : -1.0);
+  ctx.Value("sweep_unswept_rms_permille", r.sweepGuarded ? r.sweepUnsweptRms * pm : -1.0);
+  if (!r.sweepGuarded) return;
   std::ostringstream g;
   g << "Fitmap Quad Simplification: the swap sweep's cage fits to " << r.sweepSweptRms * pm << " per mille RMS, "
     << r.sweepSweptUnprojectablePct << " % unprojectable, the unswept one to " << r.sweepUnsweptRms * pm << ", "

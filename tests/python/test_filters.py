@@ -8,12 +8,12 @@ import pytest
 from conftest import PYTHON_NAMES, assert_layers_equal, icosphere, layers_snapshot
 
 
-def ellipsoid_meshset(level=4):
+def ellipsoid_meshset(level=4, offset=0.0):
     """A MeshSet with one layer: the icosphere of `level` scaled to the ellipsoid 1 x 0.6 x 0.4
-    (the Fitmaps vary over it)."""
+    (the Fitmaps vary over it), moved by `offset` along every axis."""
     ms = pymeshlab.MeshSet()
     m = icosphere(level)
-    V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
+    V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4]) + offset
     ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
     return ms
 
@@ -261,6 +261,22 @@ def test_swap_sweep_gives_fewer_irregular_vertices_at_the_same_count():
     assert guarded["sweep_chains"] * guarded["sweep_refused_chains"] == 0
     same = got[3] if guarded["sweep_chains"] > 0 else got[0]
     assert guarded["irregular_vertices"] == same["irregular_vertices"]
+    assert got[3]["sweep_swept_rms_permille"] == -1 and guarded["sweep_unswept_rms_permille"] > 0
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e4])
+def test_swap_sweep_guard_measures_what_the_fit_reports(tmp_path, offset):
+    # the guard measures each cage as the fit filter's report will (LayerRoundTrip): in this double
+    # build the layer keeps the cage's doubles and the fit's reader rounds them to float, except
+    # far from the origin (offset 1e4: float steps of 1e-3 on a 2.3-long ellipsoid), where it keeps
+    # them; the kept cage's measure is then the report's, to the last bit (a guard that rounded to
+    # float, as MeshLab 2020.09's layer does, is 1e-5 off at the origin, and more far from it)
+    ms = ellipsoid_meshset(offset=offset)
+    g = ms.generate_fitmap_quad_simplification(targetpatches=150, swapsweep=3)
+    assert g["sweep_unswept_rms_permille"] > 0 and g["sweep_swept_rms_permille"] > 0, g
+    fit = ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0, outputdir=str(tmp_path))
+    kept = g["sweep_swept_rms_permille" if g["sweep_chains"] > 0 else "sweep_unswept_rms_permille"]
+    assert fit["rms_limit_permille"] == pytest.approx(kept, rel=1e-12), (fit, g)
 
 
 def test_dense_input_is_simplified_from_its_first_start():

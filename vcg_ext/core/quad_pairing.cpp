@@ -7,7 +7,10 @@
 #include <functional>
 #include <map>
 #include <tuple>
+#include <type_traits>
 #include <utility>
+
+#include "vcg_ext/core/input_prep.h"
 
 namespace vcgext {
 
@@ -120,10 +123,25 @@ std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousRes
   return "";
 }
 
+namespace {
+// A coordinate as a MeshLab layer stores it: MESHLAB_SCALAR (CMakeLists.txt's FITMAP_SCALAR),
+// float for MeshLab 2020.09's CMeshO, double for the 2025 build that PyMeshLab loads.
+#if defined(MESHLAB_SCALAR)
+using LayerScalar = MESHLAB_SCALAR;
+#else
+using LayerScalar = float;
+#endif
+double AsLayerStores(double x) {
+  if constexpr (std::is_same_v<LayerScalar, float>) return RoundedToFloat(x);
+  return x;
+}
+}  // namespace
+
 QuadData LayerRoundTrip(const QuadData& q) {
   QuadData out;
   out.V.reserve(q.V.size());
-  for (const Vec3& v : q.V) out.V.emplace_back(RoundedToFloat(v[0]), RoundedToFloat(v[1]), RoundedToFloat(v[2]));
+  for (const Vec3& v : q.V) out.V.emplace_back(AsLayerStores(v[0]), AsLayerStores(v[1]), AsLayerStores(v[2]));
+  ApplyInputCoordinatePrecision(out.V);  // and as the fit filter's reader takes them from the layer
   const std::vector<int> start = FreeDiagonalStarts(q);
   FauxHalves h;
   for (size_t i = 0; i < q.F.size(); ++i) {

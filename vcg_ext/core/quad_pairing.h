@@ -24,8 +24,11 @@ struct FauxHalves {
 /// (optional) is set to the number of such diagonals. Returns "" or how many halves found no partner.
 std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousResolved);
 
-/// Cage q as the next filter reads it back from a MeshLab 2020.09 layer (ExportQuads, then
-/// ImportQuads): coordinates rounded to float, every quad split along its free diagonal
+/// Cage q as the next filter reads it back from a MeshLab layer (ExportQuads, then ImportQuads
+/// and ApplyInputCoordinatePrecision, as the fit filter reads its control layer): coordinates
+/// rounded to the layer's scalar (float in MeshLab 2020.09; double in the 2025 build that PyMeshLab
+/// loads, MESHLAB_SCALAR, which the reader then rounds to float unless that would move them, a
+/// far-off cage), every quad split along its free diagonal
 /// (FreeDiagonalStarts) and paired again, so a quad split along b-d starts at its corner b. The
 /// fit depends on where a quad's corners start where it does not converge (a swept cage of
 /// bunny00: 0.860 per mille as given, 0.908 read back), so whatever predicts the report fits this.
