@@ -33,6 +33,14 @@ PipelineOutputs RunForReport(const std::string& args, const std::string& mesh, c
   return o;
 }
 
+// The budget ladder reached `target` patches (within 2 %, no budget warning) from a start
+// decimated to `faces` triangles.
+void ExpectBudgetReachedFromDecimatedStart(const PipelineOutputs& o, int target, int faces) {
+  EXPECT_NE(o.log.find("from a start decimated to " + std::to_string(faces) + " triangles"), std::string::npos) << o.log;
+  EXPECT_EQ(o.log.find("was not reached"), std::string::npos) << "no budget warning";
+  EXPECT_NEAR(e2e::JsonNumber(o.json, "patches"), target, target / 50) << o.json;
+}
+
 TEST(RunPipeline, WritesColourMappedFitmapOnElephant) {  // the first output, checked in detail
   const std::string outdir = e2e::OutPath("pipeline_elephant");
   auto r = RunOnSample("--tau 5", "elephant.off", outdir);
@@ -120,7 +128,8 @@ TEST(RunPipeline, BudgetAboveTheInputsQuadsIsReachedFromItsRefinement) {
 // 392 patches that lost the legs (fitted 14 per mille from the cow; kept before 2026-12-02 it gave
 // 22 per mille and 3.7 % unprojectable): refused; the start decimated to 1 600 triangles reaches
 // 400 (with the doubled guard; the plain guard's pass flips patches): kept, 1.92 per mille,
-// 0.15 % unprojectable.
+// 0.15 % unprojectable. Since the flips are judged on the fitted limit (2026-12-05 evening) the
+// plain guard's pass is kept: 400 patches, 1.40 per mille, 0.075 %.
 TEST(RunPipeline, BudgetLadderRefusesACageThatLostAPartAndReachesTheBudgetFromACoarseStart) {
   const PipelineOutputs o = RunForReport("--patches 400", "cow.off", "pipeline_budget_cow");
   ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
@@ -128,10 +137,8 @@ TEST(RunPipeline, BudgetLadderRefusesACageThatLostAPartAndReachesTheBudgetFromAC
   const std::string& log = o.log;
   EXPECT_NE(log.find("doubled reached"), std::string::npos) << "the first rung ran";
   EXPECT_NE(log.find("but was not kept: fitted"), std::string::npos) << log;
-  EXPECT_NE(log.find("from a start decimated to 1600 triangles"), std::string::npos) << log;
-  EXPECT_EQ(log.find("was not reached"), std::string::npos) << "no budget warning";
+  ExpectBudgetReachedFromDecimatedStart(o, 400, 1600);
   EXPECT_EQ(o.run.output.find("warning: Fitmap Quad Simplification: the budget"), std::string::npos) << o.run.output;
-  EXPECT_NEAR(e2e::JsonNumber(json, "patches"), 400, 8) << json;
   // the kept cage fits the scan: RMS limit under 3 per mille (the refused cage: 22), unprojectable
   // under 0.25 % (0.15; the refused cage 3.7 %, issue 13's target 0.1 % is not met here)
   EXPECT_LE(e2e::JsonNumber(json, "rms_limit_permille"), 3.0) << json;
@@ -170,9 +177,7 @@ TEST(RunPipeline, BudgetLadderRefusesARetryTheReportWouldFindFarOff) {
 TEST(RunPipeline, BudgetLadderJudgesFlipsOnTheFittedLimit) {
   const PipelineOutputs o = RunForReport("--patches 200", "elephant.off", "pipeline_budget_elephant");
   ASSERT_EQ(o.run.exitCode, 0) << o.run.output;
-  EXPECT_NE(o.log.find("from a start decimated to 500 triangles"), std::string::npos) << o.log;
-  EXPECT_EQ(o.log.find("was not reached"), std::string::npos) << "no budget warning";
-  EXPECT_NEAR(e2e::JsonNumber(o.json, "patches"), 200, 4) << o.json;
+  ExpectBudgetReachedFromDecimatedStart(o, 200, 500);
   EXPECT_LE(e2e::JsonNumber(o.json, "rms_limit_permille"), 3.0) << o.json;
   EXPECT_LE(e2e::JsonNumber(o.json, "folded_triangles_limit"), 69) << o.json;
   EXPECT_LE(e2e::JsonNumber(o.json, "unprojectable_pct"), 0.1) << o.json;
@@ -188,9 +193,7 @@ TEST(RunPipeline, BudgetLadderJudgesFlipsOnTheFittedLimit) {
 TEST(RunPipeline, BudgetLadderLastRungAndBudgetFromARefinedStart) {
   const PipelineOutputs t = RunForReport("--patches 400", "turbine.off", "pipeline_budget_turbine");
   ASSERT_EQ(t.run.exitCode, 0) << t.run.output;
-  EXPECT_NE(t.log.find("from a start decimated to 1000 triangles"), std::string::npos) << t.log;
-  EXPECT_EQ(t.log.find("was not reached"), std::string::npos) << "no budget warning";
-  EXPECT_NEAR(e2e::JsonNumber(t.json, "patches"), 400, 8) << t.json;
+  ExpectBudgetReachedFromDecimatedStart(t, 400, 1000);
   // 0.07 % with the fit before 2026-12-04; 0.102 % (RMS limit 1.05) since the fit returns its
   // lowest-data-RMS iterate (docs/fit.md "Which iterate is kept"): issue 13's 0.1 % is missed here
   // by 0.002 % (open, README). The bound still fails a cage that lost a part (1.6 % unprojectable,
