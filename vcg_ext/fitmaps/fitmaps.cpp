@@ -804,6 +804,68 @@ std::vector<std::vector<RadiusValues>> CoarseValues(const Context& ctx, const Fa
   return coarse;
 }
 
+// Calls fn(cc, w) for the point cc of level lv that stands for fine vertex v (its cluster), then
+// for each neighbour of it, with the interpolation weight w = exp(-d^2 / (2 * area per point)), d
+// the distance from x (v's position) to the point.
+template <class Fn>
+void ForNearPoints(const Level& lv, int v, const Vec3& x, Fn&& fn) {
+  const int c = lv.ofFine[v];
+  const double inv = 1.0 / (2.0 * lv.areaPerPoint);
+  auto take = [&](int cc) { fn(cc, std::exp(-(lv.X[cc] - x).squaredNorm() * inv)); };
+  take(c);
+  for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
+}
+
+// The large-radius S fits of fine vertex v in rv, interpolated from those at the points of level
+// sLevel (sVals), for the radii fitted per vertex (FastPlan::perVertexS).
+void InterpolateLargeS(const FastPlan& plan, int sLevel, const std::vector<RadiusValues>& sVals, int v,
+                       const Vec3& x, RadiusValues& rv) {
+  const Level& lv = plan.levels[sLevel];
+  for (int i = 0; i < int(plan.perVertexS.size()); ++i) {
+    if (!plan.perVertexS[i]) continue;
+    double we = 0, se = 0;
+    ForNearPoints(lv, v, x, [&](int cc, double w) {
+      if (!sVals[cc].eOk[i]) return;
+      we += w;
+      se += w * sVals[cc].E[i];
+    });
+    if (we > 0) { rv.E[i] = se / we; rv.eOk[i] = 1; }
+  }
+}
+
+// The coarse radii [i1fine, H) of fine vertex v in rv, interpolated from their levels' points
+// (`coarse`): E where it is not fitted per vertex, phi when `needM`.
+void InterpolateCoarse(const FastPlan& plan, const std::vector<std::vector<RadiusValues>>& coarse, int i1fine,
+                       bool needM, int v, const Vec3& x, RadiusValues& rv) {
+  for (int i = i1fine; i < int(plan.levelOf.size()); ++i) {
+    const auto& vals = coarse[plan.levelOf[i]];
+    double wp = 0, sp = 0, we = 0, se = 0;
+    ForNearPoints(plan.levels[plan.levelOf[i]], v, x, [&](int cc, double w) {
+      if (vals[cc].phiOk[i]) { wp += w; sp += w * vals[cc].phi[i]; }
+      if (vals[cc].eOk[i]) { we += w; se += w * vals[cc].E[i]; }
+    });
+    if (we > 0 && !plan.perVertexS[i]) { rv.E[i] = se / we; rv.eOk[i] = 1; }
+    if (wp > 0 && needM) { rv.phi[i] = sp / wp; rv.phiOk[i] = 1; }
+  }
+}
+
+// The per-vertex S fits of the large radii (FastPlan::perVertexS) in the frame of fine vertex v,
+// each run of radii on one level evaluated together.
+void FitLargeS(const Context& ctx, const FastPlan& plan, int v, Scratch& s, RadiusValues& rv) {
+  const int H = int(ctx.radii.size());
+  EvalSpec ec;
+  ec.vertex = v;
+  ec.doM = false;
+  for (int i = 0; i < H;) {
+    if (!plan.perVertexS[i]) { ++i; continue; }
+    int j = i;
+    while (j < H && plan.perVertexS[j] && plan.levelS[j] == plan.levelS[i]) ++j;
+    ec.start = plan.levels[plan.levelS[i]].ofFine[v];
+    Evaluate(ctx, plan.levels[plan.levelS[i]], ec, i, j, s, rv);
+    i = j;
+  }
+}
+
 // Fast mode, per vertex of `todo`: the fine-level radii, the large-radius S fits (per vertex or
 // interpolated from level sLevel's points) and the coarse radii interpolated from `coarse`.
 // Returns the vertices whose S fit failed.
@@ -818,19 +880,6 @@ int FastValues(const Context& ctx, const FastPlan& plan, const std::vector<std::
   // large-radius S fits in the frames of the points of level sLevel (0: every vertex)
   const int sLevel = std::clamp(p.fastSLevel, 0, int(plan.levels.size()) - 1);
   std::vector<RadiusValues> sVals;
-  auto fitS = [&](int v, Scratch& s, RadiusValues& rv) {
-    EvalSpec ec;
-    ec.vertex = v;
-    ec.doM = false;
-    for (int i = 0; i < H;) {
-      if (!plan.perVertexS[i]) { ++i; continue; }
-      int j = i;
-      while (j < H && plan.perVertexS[j] && plan.levelS[j] == plan.levelS[i]) ++j;
-      ec.start = plan.levels[plan.levelS[i]].ofFine[v];
-      Evaluate(ctx, plan.levels[plan.levelS[i]], ec, i, j, s, rv);
-      i = j;
-    }
-  };
   if (sLevel > 0) {
     const Level& lv = plan.levels[sLevel];
     sVals.resize(lv.X.size());
@@ -840,7 +889,7 @@ int FastValues(const Context& ctx, const FastPlan& plan, const std::vector<std::
 #pragma omp for schedule(dynamic, 16)
       for (long q = 0; q < long(lv.X.size()); ++q) {
         sVals[q].Init(H);
-        fitS(lv.fineIdx[q], s, sVals[q]);
+        FitLargeS(ctx, plan, lv.fineIdx[q], s, sVals[q]);
       }
     }
   }
@@ -860,47 +909,13 @@ int FastValues(const Context& ctx, const FastPlan& plan, const std::vector<std::
       EvalSpec e;
       e.start = e.vertex = v;
       Evaluate(ctx, plan.levels[0], e, 0, i1fine, s, rv);
-      if (sLevel == 0) fitS(v, s, rv);
+      if (sLevel == 0) FitLargeS(ctx, plan, v, s, rv);
       bool needM = true;
       for (int i = 1; i < i1fine; ++i)
         if (!(rv.phiOk[i] && rv.phi[i] < ctx.tau)) needM = false;
       if (ctx.normals[v].squaredNorm() > 0) {
-        // interpolation weights exp(-d^2 / (2 * area per point)) over the vertex's cluster
-        // and its neighbour clusters
-        if (sLevel > 0) {
-          const Level& lv = plan.levels[sLevel];
-          const int c = lv.ofFine[v];
-          const double inv = 1.0 / (2.0 * lv.areaPerPoint);
-          for (int i = 0; i < H; ++i) {
-            if (!plan.perVertexS[i]) continue;
-            double we = 0, se = 0;
-            auto take = [&](int cc) {
-              if (!sVals[cc].eOk[i]) return;
-              const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
-              we += w;
-              se += w * sVals[cc].E[i];
-            };
-            take(c);
-            for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
-            if (we > 0) { rv.E[i] = se / we; rv.eOk[i] = 1; }
-          }
-        }
-        for (int i = i1fine; i < H; ++i) {
-          const Level& lv = plan.levels[plan.levelOf[i]];
-          const auto& vals = coarse[plan.levelOf[i]];
-          const int c = lv.ofFine[v];
-          const double inv = 1.0 / (2.0 * lv.areaPerPoint);
-          double wp = 0, sp = 0, we = 0, se = 0;
-          auto take = [&](int cc) {
-            const double w = std::exp(-(lv.X[cc] - m.V[v]).squaredNorm() * inv);
-            if (vals[cc].phiOk[i]) { wp += w; sp += w * vals[cc].phi[i]; }
-            if (vals[cc].eOk[i]) { we += w; se += w * vals[cc].E[i]; }
-          };
-          take(c);
-          for (const int* it = lv.adj.Begin(c); it != lv.adj.End(c); ++it) take(*it);
-          if (we > 0 && !plan.perVertexS[i]) { rv.E[i] = se / we; rv.eOk[i] = 1; }
-          if (wp > 0 && needM) { rv.phi[i] = sp / wp; rv.phiOk[i] = 1; }
-        }
+        if (sLevel > 0) InterpolateLargeS(plan, sLevel, sVals, v, m.V[v], rv);
+        InterpolateCoarse(plan, coarse, i1fine, needM, v, m.V[v], rv);
       }
       if (!StoreVertex(ctx, rv, v, res)) ++noFit;
       ++done;
@@ -908,6 +923,66 @@ int FastValues(const Context& ctx, const FastPlan& plan, const std::vector<std::
     }
   }
   return noFit;
+}
+
+// The input with its vertices in Morton order (MortonOrder: order[k] is the input vertex at k,
+// rank its inverse), the faces renumbered.
+TriData MortonOrdered(const TriData& input, std::vector<int>& order, std::vector<int>& rank) {
+  const int nV = int(input.V.size());
+  MortonOrder(input.V, order, rank);
+  TriData mm;
+  mm.V.resize(nV);
+  for (int k = 0; k < nV; ++k) mm.V[k] = input.V[order[k]];
+  mm.F = input.F;
+  for (auto& f : mm.F)
+    for (int& c : f) c = rank[c];
+  return mm;
+}
+
+// The vertices to compute (FitmapParams::vertices as Morton ranks, sorted and unique; every
+// vertex when empty), with res's per-vertex arrays sized and set for them (M = r_0, the paper's
+// grid; `unreferenced` counted from the adjacency vv).
+std::vector<int> VerticesToCompute(const Context& ctx, const std::vector<int>& rank, const Adjacency& vv,
+                                   FitmapResult& res) {
+  const FitmapParams& p = *ctx.p;
+  const int nV = int(ctx.m->V.size()), H = int(ctx.radii.size());
+  std::vector<int> todo;
+  for (int v : p.vertices) todo.push_back(rank[v]);
+  std::sort(todo.begin(), todo.end());
+  todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+  if (todo.empty()) {
+    todo.resize(nV);
+    for (int i = 0; i < nV; ++i) todo[i] = i;
+  }
+  res.S.assign(nV, 0.0);
+  res.M.assign(nV, 0.0);
+  res.computed.assign(nV, 0);
+  for (int v : todo) {
+    res.computed[v] = 1;
+    res.M[v] = ctx.radii[0];  // r_0 on the paper's grid
+  }
+  if (p.keepPerRadius) {
+    res.perRadiusE.assign(size_t(nV) * H, -1.0);
+    res.perRadiusFlipped.assign(size_t(nV) * H, -1.0);
+  }
+  for (int v : todo) res.unreferenced += vv.Count(v) == 0 ? 1 : 0;
+  return todo;
+}
+
+// res's per-vertex arrays back from Morton order to the caller's (order: MortonOrdered's).
+void ToCallerOrder(const std::vector<int>& order, int H, FitmapResult& res) {
+  const int nV = int(order.size());
+  auto unpermute = [&](auto& vec, size_t stride) {
+    if (vec.empty()) return;
+    auto tmp = vec;
+    for (int k = 0; k < nV; ++k)
+      for (size_t j = 0; j < stride; ++j) vec[size_t(order[k]) * stride + j] = tmp[size_t(k) * stride + j];
+  };
+  unpermute(res.S, 1);
+  unpermute(res.M, 1);
+  unpermute(res.computed, 1);
+  unpermute(res.perRadiusE, size_t(H));
+  unpermute(res.perRadiusFlipped, size_t(H));
 }
 
 }  // namespace
@@ -940,14 +1015,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   // ---- vertices in Morton order (MortonOrder)
   const int nV = int(input.V.size());
   std::vector<int> order, rank;
-  MortonOrder(input.V, order, rank);
-  TriData mm;
-  mm.V.resize(nV);
-  for (int k = 0; k < nV; ++k) mm.V[k] = input.V[order[k]];
-  mm.F = input.F;
-  for (auto& f : mm.F)
-    for (int& c : f) c = rank[c];
-  const TriData& m = mm;
+  const TriData m = MortonOrdered(input, order, rank);
 
   // ---- radii: r_0 = average edge length, r_h = maxRadiusPercent of the diagonal (FitmapRadii)
   Context ctx;
@@ -977,26 +1045,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
   ctx.normals = RobustNormals(m, vv, rh, res.fallbackNormals);
 
   // ---- which vertices
-  std::vector<int> todo;
-  for (int v : p.vertices) todo.push_back(rank[v]);
-  std::sort(todo.begin(), todo.end());
-  todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
-  if (todo.empty()) {
-    todo.resize(nV);
-    for (int i = 0; i < nV; ++i) todo[i] = i;
-  }
-  res.S.assign(nV, 0.0);
-  res.M.assign(nV, 0.0);
-  res.computed.assign(nV, 0);
-  for (int v : todo) {
-    res.computed[v] = 1;
-    res.M[v] = ctx.radii[0];  // r_0 on the paper's grid
-  }
-  if (p.keepPerRadius) {
-    res.perRadiusE.assign(size_t(nV) * H, -1.0);
-    res.perRadiusFlipped.assign(size_t(nV) * H, -1.0);
-  }
-  for (int v : todo) res.unreferenced += vv.Count(v) == 0 ? 1 : 0;
+  const std::vector<int> todo = VerticesToCompute(ctx, rank, vv, res);
 
   Level fine = MakeFineLevel(m, vv, ctx.totalArea);
   if (p.mode == FitmapParams::Mode::Reference) {
@@ -1010,18 +1059,7 @@ FitmapResult ComputeFitmaps(const TriData& input, const EmbreeScene& scene, cons
     const auto coarse = CoarseValues(ctx, plan);
     res.noFit = FastValues(ctx, plan, coarse, todo, res, prog, t0);
   }
-  // back to the caller's vertex order
-  auto unpermute = [&](auto& vec, size_t stride) {
-    if (vec.empty()) return;
-    auto tmp = vec;
-    for (int k = 0; k < nV; ++k)
-      for (size_t j = 0; j < stride; ++j) vec[size_t(order[k]) * stride + j] = tmp[size_t(k) * stride + j];
-  };
-  unpermute(res.S, 1);
-  unpermute(res.M, 1);
-  unpermute(res.computed, 1);
-  unpermute(res.perRadiusE, size_t(H));
-  unpermute(res.perRadiusFlipped, size_t(H));
+  ToCallerOrder(order, H, res);  // back to the caller's vertex order
   prog(100, "Fitmaps: done", true);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
