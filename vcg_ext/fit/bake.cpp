@@ -102,6 +102,60 @@ void BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, con
   }
 }
 
+namespace {
+
+// r.atlas's tiles for the limit's `patches` (the paper's budget, one texel per reference vertex up
+// to FitBakeParams::maxTexels; uniform or adaptive tiles), with the renderer's grid level.
+void LayOutAtlas(int patches, const TriData& ref, const FitBakeParams& p, FitBakeResult& r) {
+  const int budgetVertices = p.maxTexels > 0 ? std::min(r.referenceVertices, p.maxTexels) : r.referenceVertices;
+  if (p.textureResolution > 0 || !p.adaptiveTiles)
+    UniformAtlasLayout(r.atlas, patches,
+                       p.textureResolution > 0 ? p.textureResolution : AutoTextureResolution(budgetVertices, patches));
+  else
+    AdaptiveAtlasLayout(r.atlas, AdaptiveTileResolutions(PatchAreas(r.limit, patches),
+                                                         PatchVertexCounts(r.limit, patches, ref),
+                                                         AutoTextureBudget(budgetVertices, patches)));
+  if (p.rendererGrid) {
+    r.atlas.rendererLevel = RendererLevel(r.atlas);
+    if (r.atlas.rendererLevel == 0)
+      r.warnings.push_back("the renderer's grid needs tiles of 2^k+1 texels (automatic tile sizes); the "
+                           "displacement was baked for the per-tile surface along the limit normal");
+  }
+}
+
+// r.metrics: the limit (on its metric tessellation, AutoMetricSegments) and the displaced surface
+// against the reference (`scene` is the reference's), in per mille of its diagonal.
+void MeasureResult(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene, const FitBakeParams& p,
+                   FitBakeResult& r) {
+  const double diag = BBoxDiagonal(ref.V);
+  const double maxDist = p.maxDistPercent / 100.0 * diag;
+  int Nm = p.metricSegments;
+  if (Nm == 0)
+    Nm = AutoMetricSegments(long(ref.F.size()), ls.NumFaces(), p.limitSegments);
+  LimitTessellation dense = Nm == p.limitSegments ? r.limit : TessellateLimit(ls, r.fit.control.V, Nm);
+  const EmbreeScene denseScene(dense.mesh);  // one scene for the limit error and projectability
+  auto el = ReferenceToSurfaceError(ref, denseScene);
+  const EmbreeScene displacedScene(r.displaced.mesh);  // one scene for both displaced checks
+  auto ed = ReferenceToSurfaceError(ref, displacedScene);
+  const double pm = diag > 0 ? 1000.0 / diag : 0.0;
+  r.metrics.rmsLimitPermille = el.first * pm;
+  r.metrics.maxLimitPermille = el.second * pm;
+  r.metrics.rmsDisplacedPermille = ed.first * pm;
+  r.metrics.maxDisplacedPermille = ed.second * pm;
+  double mx = 0;
+  for (double q : r.limit.quality) mx = std::max(mx, std::abs(q));
+  r.metrics.maxLimitToRefPermille = mx * pm;
+  r.metrics.rmsDisplacedAreaPermille = AreaSampledDistance(ref, displacedScene).first * pm;
+  const auto dr = AreaSampledDistance(r.displaced.mesh, scene, true);
+  r.metrics.rmsDisplacedToRefPermille = dr.first * pm;
+  r.metrics.maxDisplacedToRefPermille = dr.second * pm;
+  r.metrics.displacedFolds = FoldedTriangles(r.displaced);
+  r.metrics.limitFolds = FoldedTriangles(dense);
+  r.metrics.unprojectablePct = UnprojectablePercent(dense, denseScene, ref, scene, maxDist);
+}
+
+}  // namespace
+
 FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const EmbreeScene& scene, const FitBakeParams& p,
                          vcg::CallBackPos* cb) {
   FitBakeResult r;
@@ -131,22 +185,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   r.memory.emplace_back("tessellate", StagePeakMemoryMb());
   prog(60, "Fit and bake: baking displacement", true);
   t = Clock::now();
-  // the paper's budget, one texel per reference vertex, up to the cap
-  const int budgetVertices = p.maxTexels > 0 ? std::min(r.referenceVertices, p.maxTexels) : r.referenceVertices;
-  if (p.textureResolution > 0 || !p.adaptiveTiles)
-    UniformAtlasLayout(r.atlas, ls.NumFaces(),
-                       p.textureResolution > 0 ? p.textureResolution
-                                               : AutoTextureResolution(budgetVertices, ls.NumFaces()));
-  else
-    AdaptiveAtlasLayout(r.atlas, AdaptiveTileResolutions(PatchAreas(r.limit, ls.NumFaces()),
-                                                         PatchVertexCounts(r.limit, ls.NumFaces(), ref),
-                                                         AutoTextureBudget(budgetVertices, ls.NumFaces())));
-  if (p.rendererGrid) {
-    r.atlas.rendererLevel = RendererLevel(r.atlas);
-    if (r.atlas.rendererLevel == 0)
-      r.warnings.push_back("the renderer's grid needs tiles of 2^k+1 texels (automatic tile sizes); the "
-                           "displacement was baked for the per-tile surface along the limit normal");
-  }
+  LayOutAtlas(ls.NumFaces(), ref, p, r);
   BakeDisplacement(ls, ctrl, ref, scene, maxDist, p.normalMap, r.atlas);
   // one base for the texel fit and the displaced layer (BakeDisplacement still builds its own grid)
   LimitTessellation base = DisplacementBase(ls, ctrl, r.atlas, p.limitSegments);
@@ -158,29 +197,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   if (p.computeMetrics) {
     prog(75, "Fit and bake: measuring", true);
     t = Clock::now();
-    int Nm = p.metricSegments;
-    if (Nm == 0)
-      Nm = AutoMetricSegments(long(ref.F.size()), ls.NumFaces(), p.limitSegments);
-    LimitTessellation dense = Nm == p.limitSegments ? r.limit : TessellateLimit(ls, ctrl, Nm);
-    const EmbreeScene denseScene(dense.mesh);  // one scene for the limit error and projectability
-    auto el = ReferenceToSurfaceError(ref, denseScene);
-    const EmbreeScene displacedScene(r.displaced.mesh);  // one scene for both displaced checks
-    auto ed = ReferenceToSurfaceError(ref, displacedScene);
-    const double pm = diag > 0 ? 1000.0 / diag : 0.0;
-    r.metrics.rmsLimitPermille = el.first * pm;
-    r.metrics.maxLimitPermille = el.second * pm;
-    r.metrics.rmsDisplacedPermille = ed.first * pm;
-    r.metrics.maxDisplacedPermille = ed.second * pm;
-    double mx = 0;
-    for (double q : r.limit.quality) mx = std::max(mx, std::abs(q));
-    r.metrics.maxLimitToRefPermille = mx * pm;
-    r.metrics.rmsDisplacedAreaPermille = AreaSampledDistance(ref, displacedScene).first * pm;
-    const auto dr = AreaSampledDistance(r.displaced.mesh, scene, true);  // `scene` is the reference's
-    r.metrics.rmsDisplacedToRefPermille = dr.first * pm;
-    r.metrics.maxDisplacedToRefPermille = dr.second * pm;
-    r.metrics.displacedFolds = FoldedTriangles(r.displaced);
-    r.metrics.limitFolds = FoldedTriangles(dense);
-    r.metrics.unprojectablePct = UnprojectablePercent(dense, denseScene, ref, scene, maxDist);
+    MeasureResult(ls, ref, scene, p, r);
     r.times.emplace_back("metrics", Since(t));
     r.memory.emplace_back("metrics", StagePeakMemoryMb());
   }
