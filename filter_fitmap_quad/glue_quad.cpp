@@ -217,9 +217,8 @@ void ReportSweepGuard(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, con
   ctx.log(g.str());
 }
 
-// The log lines and returned values of a simplification (r, for the parameters p, on `tri`).
-void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
-                 const vcgext::TriData& tri, std::chrono::steady_clock::time_point t0) {
+// The simplification's first log line: counts, valences, operations, refusals and times.
+void LogQuadSummary(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, std::chrono::steady_clock::time_point t0) {
   std::ostringstream log;
   log << "Fitmap Quad Simplification: " << r.initialPatches << " -> " << r.patches << " patches, "
       << r.irregularVertices << " irregular vertices; tri-to-quad: " << vcgext::quad::ToString(r.triToQuadPath)
@@ -234,6 +233,11 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
       << r.secondsInitialFit << " s, simplification " << r.secondsSimplify << " s, total "
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s";
   ctx.log(log.str());
+}
+
+// What the budget's retries did (the ladder, the layout trials, the start refinement) and the
+// warning when the budget was still missed.
+void LogBudgetRetries(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p) {
   if (r.budgetRelaxations > 0) {
     std::ostringstream b;
     b << "Fitmap Quad Simplification: the thin-part guard stopped the budget of " << p.targetPatches
@@ -260,6 +264,57 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
     ctx.log("Warning: Fitmap Quad Simplification: the budget of " + std::to_string(p.targetPatches) +
             " patches was not reached: " + std::to_string(r.patches) +
             " patches: no collapse left that the checks allow (M-fitmap, thin-part guard, topology, flips)");
+}
+
+// The equalized layout's count pass and which layout was kept.
+void LogLayout(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::TriData& tri) {
+  if (r.countPatches <= 0) return;
+  const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
+  std::ostringstream c;
+  c << "Fitmap Quad Simplification: " << r.countPatches << " patches from the paper's halting (M-fitmap test) on a "
+    << r.countStartFaces << "-triangle start mesh; ";
+  if (r.keptPaperLayout)
+    c << "kept that cage: its interpolating limit is closer to the input than the equalized layout's (RMS "
+      << r.paperLayoutRms * pm << " vs " << r.equalizedLayoutRms * pm << " per mille)";
+  else
+    c << "those patches laid out by the S-fitmap cost alone (equalized layout"
+      << (r.paperLayoutRms > 0 ? ", interpolating limit RMS " : "")
+      << (r.paperLayoutRms > 0 ? std::to_string(r.equalizedLayoutRms * pm) + " vs the paper's " +
+                                     std::to_string(r.paperLayoutRms * pm) + " per mille"
+                               : std::string())
+      << "; the M-fitmap refusals above are the counting pass's)";
+  if (r.keptPaperLayout) {
+    c << "; the other passes (the equalized layout, a coarse count) added " << r.secondsCount << " s";
+  } else {
+    c << "; the count pass took " << r.secondsCount + r.secondsCountOverlapped << " s";
+    if (r.secondsCountOverlapped > 0)
+      c << " (" << r.secondsCountOverlapped << " s of it on a second thread beside the layout pass)";
+  }
+  ctx.log(c.str());
+}
+
+// The coverage guard's relayout, when it ran.
+void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
+                 const vcgext::TriData& tri) {
+  if (r.coverageRelayouts <= 0) return;
+  const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
+  std::ostringstream g;
+  g << "Fitmap Quad Simplification: the " << r.coverageFromPatches << "-patch cage did not cover the input "
+    << "(its interpolating limit stays " << r.coverageFromRms * pm
+    << " per mille of the diagonal from it, RMS, and leaves " << r.coverageFromUnprojectablePct
+    << " % of its area unreached by projection; limits 5 tau and " << p.coverageUnprojectablePct
+    << " %: the M-fitmap did not stop the collapses, as on thin closed parts, flat open ones and sharp "
+       "solids); laid out again with "
+    << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached " << r.layoutUnprojectablePct
+    << " %)";
+  ctx.log(g.str());
+}
+
+// The log lines and returned values of a simplification (r, for the parameters p, on `tri`).
+void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
+                 const vcgext::TriData& tri, std::chrono::steady_clock::time_point t0) {
+  LogQuadSummary(ctx, r, t0);
+  LogBudgetRetries(ctx, r, p);
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);
   ctx.Value("rescued_from_patches", r.rescuedFromPatches);
@@ -271,45 +326,10 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
   ctx.Value("count_patches", r.countPatches);
   ctx.Value("kept_paper_layout", r.keptPaperLayout ? 1 : 0);
   ctx.Value("seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  if (r.countPatches > 0) {
-    const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
-    std::ostringstream c;
-    c << "Fitmap Quad Simplification: " << r.countPatches << " patches from the paper's halting (M-fitmap test) on a "
-      << r.countStartFaces << "-triangle start mesh; ";
-    if (r.keptPaperLayout)
-      c << "kept that cage: its interpolating limit is closer to the input than the equalized layout's (RMS "
-        << r.paperLayoutRms * pm << " vs " << r.equalizedLayoutRms * pm << " per mille)";
-    else
-      c << "those patches laid out by the S-fitmap cost alone (equalized layout"
-        << (r.paperLayoutRms > 0 ? ", interpolating limit RMS " : "")
-        << (r.paperLayoutRms > 0 ? std::to_string(r.equalizedLayoutRms * pm) + " vs the paper's " +
-                                       std::to_string(r.paperLayoutRms * pm) + " per mille"
-                                 : std::string())
-        << "; the M-fitmap refusals above are the counting pass's)";
-    if (r.keptPaperLayout) {
-      c << "; the other passes (the equalized layout, a coarse count) added " << r.secondsCount << " s";
-    } else {
-      c << "; the count pass took " << r.secondsCount + r.secondsCountOverlapped << " s";
-      if (r.secondsCountOverlapped > 0)
-        c << " (" << r.secondsCountOverlapped << " s of it on a second thread beside the layout pass)";
-    }
-    ctx.log(c.str());
-  }
+  LogLayout(ctx, r, tri);
   ctx.Value("coverage_relayouts", r.coverageRelayouts);
   if (r.layoutUnprojectablePct >= 0) ctx.Value("cage_unprojectable_pct", r.layoutUnprojectablePct);
-  if (r.coverageRelayouts > 0) {
-    const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
-    std::ostringstream g;
-    g << "Fitmap Quad Simplification: the " << r.coverageFromPatches << "-patch cage did not cover the input "
-      << "(its interpolating limit stays " << r.coverageFromRms * pm
-      << " per mille of the diagonal from it, RMS, and leaves " << r.coverageFromUnprojectablePct
-      << " % of its area unreached by projection; limits 5 tau and " << p.coverageUnprojectablePct
-      << " %: the M-fitmap did not stop the collapses, as on thin closed parts, flat open ones and sharp "
-         "solids); laid out again with "
-      << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached " << r.layoutUnprojectablePct
-      << " %)";
-    ctx.log(g.str());
-  }
+  LogCoverage(ctx, r, p, tri);
   if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);
 }
 // The start's notes and warnings, and the first start's outcome when one was tried; its stage
