@@ -128,7 +128,7 @@ TEST(RunPipeline, BudgetAboveTheInputsQuadsIsReachedFromItsRefinement) {
 // 392 patches that lost the legs (fitted 14 per mille from the cow; kept before 2026-12-02 it gave
 // 22 per mille and 3.7 % unprojectable): refused; the start decimated to 1 600 triangles reaches
 // 400 (with the doubled guard; the plain guard's pass flips patches): kept, 1.92 per mille,
-// 0.15 % unprojectable. Since the flips are judged on the fitted limit (2026-12-05 evening) the
+// 0.15 % unprojectable. Since the flips are judged on the fitted limit (2026-12-05 19:30) the
 // plain guard's pass is kept: 400 patches, 1.40 per mille, 0.075 %.
 TEST(RunPipeline, BudgetLadderRefusesACageThatLostAPartAndReachesTheBudgetFromACoarseStart) {
   const PipelineOutputs o = RunForReport("--patches 400", "cow.off", "pipeline_budget_cow");

@@ -35,7 +35,7 @@ constexpr double kUnreachedSlackPct = 0.1;
 // fit's own data rows, which leave out what lies beyond the fit's projection reach): bull.off @ 200
 // had reached 211 patches with the guard relaxed at 30 per mille and 5.1 % unprojectable, judged
 // close by the fit's rows; the report's RMS refuses it (first pass: 466 patches, 1.46 per mille).
-// Flips judged on the fitted limit since 2026-12-05 evening (before: any more flips refused the
+// Flips judged on the fitted limit since 2026-12-05 19:30 (before: any more flips refused the
 // retry): the fit moves every control point, and the interpolating limit's flips did not survive
 // it on the retries they refused: elephant.off @ 200, the 2.5 N start reached 200 patches with one
 // flip more than the first pass's 231; fitted, its limit folds 35 triangles (the first pass's 69)
