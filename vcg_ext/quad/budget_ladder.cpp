@@ -42,7 +42,7 @@ constexpr double kUnreachedSlackPct = 0.1;
 // at 2.56 per mille (2.22 at 231 patches), 0.016 % unprojectable. The unprojectable bound refuses
 // what the folds let through where a part is lost: cheese.off @ 200 (first pass 1 786 patches,
 // 0.18 %): the 4 N start's 555 patches fold less, fitted, but leave 3.5 % unprojectable.
-// `rFitted`: r's measure, computed on first use (folds < 0 before). `why`: the reason when not.
+// `rFitted`: r's measure, computed on first use (rms < 0 before). `why`: the reason when not.
 bool RetryCoversAsWell(const TriData& input, const EmbreeScene& scene, const QuadSimplifyResult& r,
                        const QuadSimplifyResult& g, FittedMeasure* rFitted, std::string* why) {
   char buf[240];
@@ -54,7 +54,7 @@ bool RetryCoversAsWell(const TriData& input, const EmbreeScene& scene, const Qua
     *why = buf;
     return false;
   }
-  if (rFitted->folds < 0) *rFitted = MeasureAsReported(input, scene, r.quads, true);
+  if (rFitted->rms < 0) *rFitted = MeasureAsReported(input, scene, r.quads, true);
   const int flips = g.flippedPatches + g.flippedVertices, rFlips = r.flippedPatches + r.flippedVertices;
   const FittedMeasure fitted = MeasureAsReported(input, scene, g.quads, flips > rFlips);
   if (flips > rFlips && !(fitted.folds >= 0 && fitted.folds <= rFitted->folds &&
@@ -86,7 +86,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   QuadSimplifyResult best;  // the retry kept so far (patches 0: none)
   double spent = 0;         // seconds of the retries not kept
   std::string notes;        // why retries were not kept
-  FittedMeasure rFitted;    // the first pass's fitted measure (RetryCoversAsWell)
+  FittedMeasure rFitted{-1.0, 100.0, -1};  // the first pass's fitted measure (RetryCoversAsWell)
   // one retry from `from` with the guard factor `guard`; rung: its place in the ladder
   auto attempt = [&](const TriData& from, double guard, int rung, const char* what) {
     QuadSimplifyParams lp = LayoutParams(params, target);
