@@ -80,10 +80,105 @@ void AdaptiveAtlasLayout(DisplacementAtlas& a, const std::vector<int>& tileR) {
   a.disp.assign(size_t(a.width) * a.height, 0.f);
 }
 
+namespace {
+
+// The tile sizes' knapsack (AdaptiveTileResolutions): per patch f a level k of kTileLevels, costing
+// extra[k] spare units and leaving W[f] * err[k] of squared error; the levels that minimize the
+// error within `units`.
+constexpr int kTileLevels = 6;  // T = 2, 4, …, 64: tiles of 3 .. 65 texels per side
+struct TileKnapsack {
+  std::vector<double> W;
+  int extra[kTileLevels];
+  double err[kTileLevels];
+  long long units = 0;
+};
+
+// Exact: dynamic programming over the spare units (bunny00: 379 × 4.3k cells).
+std::vector<int> KnapsackExact(const TileKnapsack& q) {
+  const int F = int(q.W.size());
+  const auto& W = q.W;
+  const auto& extra = q.extra;
+  const auto& err = q.err;
+  std::vector<int> level(F, 0);
+  const int S = int(q.units);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> best(S + 1, inf), next(S + 1);
+  best[0] = 0;
+  std::vector<std::uint8_t> choice(size_t(F) * (S + 1), 0);
+  for (int f = 0; f < F; ++f) {
+    std::fill(next.begin(), next.end(), inf);
+    std::uint8_t* ch = choice.data() + size_t(f) * (S + 1);
+    for (int k = 0; k < kTileLevels; ++k) {
+      const double e = W[f] * err[k];
+      for (int s = extra[k]; s <= S; ++s) {
+        const double v = best[s - extra[k]] + e;
+        if (v < next[s]) {  // ties: the smaller tile (k ascending)
+          next[s] = v;
+          ch[s] = std::uint8_t(k);
+        }
+      }
+    }
+    best.swap(next);
+  }
+  int s = int(std::min_element(best.begin(), best.end()) - best.begin());
+  for (int f = F - 1; f >= 0; --f) {
+    level[f] = choice[size_t(f) * (S + 1) + s];
+    s -= extra[level[f]];
+  }
+  return level;
+}
+
+// Many patches: Lagrangian relaxation (each patch minimizes W·err + λ·extra on its own; the
+// smallest λ that fits, by bisection), then the best upgrades that still fit. Optimal up to the
+// leftover of one knapsack step, which is small against a budget this large.
+std::vector<int> KnapsackLagrangian(const TileKnapsack& q) {
+  const int F = int(q.W.size());
+  const auto& W = q.W;
+  const auto& extra = q.extra;
+  const auto& err = q.err;
+  const long long units = q.units;
+  std::vector<int> level(F, 0);
+  double maxW = 0;
+  for (double w : W) maxW = std::max(maxW, w);
+  auto choose = [&](double lambda, std::vector<int>& out) {
+    long long n = 0;
+    for (int f = 0; f < F; ++f) {
+      int bk = 0;
+      for (int k = 1; k < kTileLevels; ++k)
+        if (W[f] * err[k] + lambda * extra[k] < W[f] * err[bk] + lambda * extra[bk]) bk = k;
+      out[f] = bk;
+      n += extra[bk];
+    }
+    return n;
+  };
+  std::vector<int> trial(F);
+  double lo = std::log(std::max(maxW, 1e-300)) - 80, hi = std::log(std::max(maxW, 1e-300)) + 5;
+  for (int it = 0; it < 100; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (choose(std::exp(mid), trial) <= units ? hi : lo) = mid;
+  }
+  long long used = choose(std::exp(hi), level);
+  for (;;) {
+    int bf = -1;
+    double bestRate = 0;
+    for (int f = 0; f < F; ++f) {
+      const int k = level[f];
+      if (k + 1 >= kTileLevels || used + extra[k + 1] - extra[k] > units) continue;
+      const double rate = W[f] * (err[k] - err[k + 1]) / (extra[k + 1] - extra[k]);
+      if (rate > bestRate) { bestRate = rate; bf = f; }
+    }
+    if (bf < 0) break;
+    used += extra[level[bf] + 1] - extra[level[bf]];
+    ++level[bf];
+  }
+  return level;
+}
+
+}  // namespace
+
 std::vector<int> AdaptiveTileResolutions(const std::vector<double>& patchArea, const std::vector<double>& patchVertices,
                                          double budget) {
   const int F = int(patchArea.size());
-  constexpr int kLevels = 6;  // T = 2, 4, …, 64: tiles of 3 .. 65 texels per side
   std::vector<int> R(F, 3);
   if (F == 0 || int(patchVertices.size()) != F) return R;
   // Error model: a reference vertex on patch f is off the bilinear displaced layer by about the
@@ -92,84 +187,18 @@ std::vector<int> AdaptiveTileResolutions(const std::vector<double>& patchArea, c
   // W_f = vertices_f · area_f, to minimize under Σ (T_f+1)² <= budget: a multiple-choice
   // knapsack. Every patch pays for its 3×3 tile first; (T+1)² − 9 = 8·c with
   // c = 0, 2, 9, 35, 135, 527 extra units of 8 texels.
-  std::vector<double> W(F);
-  for (int f = 0; f < F; ++f) W[f] = std::max(patchVertices[f], 0.0) * std::max(patchArea[f], 0.0);
-  int extra[kLevels];
-  double err[kLevels];
-  for (int k = 0; k < kLevels; ++k) {
+  TileKnapsack q;
+  q.W.resize(F);
+  for (int f = 0; f < F; ++f) q.W[f] = std::max(patchVertices[f], 0.0) * std::max(patchArea[f], 0.0);
+  for (int k = 0; k < kTileLevels; ++k) {
     const int t = 2 << k;
-    extra[k] = ((t + 1) * (t + 1) - 9) / 8;
-    err[k] = 1.0 / (double(t) * t);
+    q.extra[k] = ((t + 1) * (t + 1) - 9) / 8;
+    q.err[k] = 1.0 / (double(t) * t);
   }
   const double spare = (budget - 9.0 * F) / 8.0;
   if (!(spare >= 1)) return R;  // no room beyond the smallest tiles
-  const long long units = (long long)std::min(spare, double(extra[kLevels - 1]) * F);
-  std::vector<int> level(F, 0);
-  if (double(F) * double(units + 1) <= 4e7) {
-    // Exact: dynamic programming over the spare units (bunny00: 379 × 4.3k cells).
-    const int S = int(units);
-    const double inf = std::numeric_limits<double>::infinity();
-    std::vector<double> best(S + 1, inf), next(S + 1);
-    best[0] = 0;
-    std::vector<std::uint8_t> choice(size_t(F) * (S + 1), 0);
-    for (int f = 0; f < F; ++f) {
-      std::fill(next.begin(), next.end(), inf);
-      std::uint8_t* ch = choice.data() + size_t(f) * (S + 1);
-      for (int k = 0; k < kLevels; ++k) {
-        const double e = W[f] * err[k];
-        for (int s = extra[k]; s <= S; ++s) {
-          const double v = best[s - extra[k]] + e;
-          if (v < next[s]) {  // ties: the smaller tile (k ascending)
-            next[s] = v;
-            ch[s] = std::uint8_t(k);
-          }
-        }
-      }
-      best.swap(next);
-    }
-    int s = int(std::min_element(best.begin(), best.end()) - best.begin());
-    for (int f = F - 1; f >= 0; --f) {
-      level[f] = choice[size_t(f) * (S + 1) + s];
-      s -= extra[level[f]];
-    }
-  } else {
-    // Many patches: Lagrangian relaxation (each patch minimizes W·err + λ·extra on its own; the
-    // smallest λ that fits, by bisection), then the best upgrades that still fit. Optimal up to
-    // the leftover of one knapsack step, which is small against a budget this large.
-    double maxW = 0;
-    for (double w : W) maxW = std::max(maxW, w);
-    auto choose = [&](double lambda, std::vector<int>& out) {
-      long long n = 0;
-      for (int f = 0; f < F; ++f) {
-        int bk = 0;
-        for (int k = 1; k < kLevels; ++k)
-          if (W[f] * err[k] + lambda * extra[k] < W[f] * err[bk] + lambda * extra[bk]) bk = k;
-        out[f] = bk;
-        n += extra[bk];
-      }
-      return n;
-    };
-    std::vector<int> trial(F);
-    double lo = std::log(std::max(maxW, 1e-300)) - 80, hi = std::log(std::max(maxW, 1e-300)) + 5;
-    for (int it = 0; it < 100; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (choose(std::exp(mid), trial) <= units ? hi : lo) = mid;
-    }
-    long long used = choose(std::exp(hi), level);
-    for (;;) {
-      int bf = -1;
-      double bestRate = 0;
-      for (int f = 0; f < F; ++f) {
-        const int k = level[f];
-        if (k + 1 >= kLevels || used + extra[k + 1] - extra[k] > units) continue;
-        const double rate = W[f] * (err[k] - err[k + 1]) / (extra[k + 1] - extra[k]);
-        if (rate > bestRate) { bestRate = rate; bf = f; }
-      }
-      if (bf < 0) break;
-      used += extra[level[bf] + 1] - extra[level[bf]];
-      ++level[bf];
-    }
-  }
+  q.units = (long long)std::min(spare, double(q.extra[kTileLevels - 1]) * F);
+  const std::vector<int> level = double(F) * double(q.units + 1) <= 4e7 ? KnapsackExact(q) : KnapsackLagrangian(q);
   for (int f = 0; f < F; ++f) R[f] = (2 << level[f]) + 1;
   return R;
 }
