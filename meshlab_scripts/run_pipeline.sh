@@ -119,7 +119,8 @@ fi
 end=$(date +%s.%N)
 rm -f "$mlx"
 # the filters' log lines, warnings included, once each in the order they came
-grep -E "^(Warning: )?(Compute Fitmaps|Fitmap Quad Simplification|Fit Catmull-Clark)" "$OUTDIR/meshlab.log" |
+filters="(Compute Fitmaps|Fitmap Quad Simplification|Fit Catmull-Clark)"
+grep -E "^(Warning: )?$filters" "$OUTDIR/meshlab.log" |
   awk '!seen[$0]++' | sed 's/^/[meshlab] /' || true
 for f in fitmap.ply control.obj control.ply limit.ply displaced.ply displacement.png displacement.json report.json; do
   [ -s "$OUTDIR/$f" ] || { echo "run_pipeline: $OUTDIR/$f was not written (log: $OUTDIR/meshlab.log)" >&2; exit 1; }
@@ -128,7 +129,7 @@ echo "[run_pipeline] report ($OUTDIR/report.json):"
 cat "$OUTDIR/report.json"
 # report.json lists the fit's warnings; the Fitmaps' and the simplification's (a budget not
 # reached, a precision warning) are only in the log: repeat every warning last, on stderr
-warnings=$(grep -E "^Warning: (Compute Fitmaps|Fitmap Quad Simplification|Fit Catmull-Clark)" "$OUTDIR/meshlab.log" |
+warnings=$(grep -E "^Warning: $filters" "$OUTDIR/meshlab.log" |
   awk '!seen[$0]++' || true)
 if [ -n "$warnings" ]; then
   echo "[run_pipeline] $(printf '%s\n' "$warnings" | wc -l) warning(s):" >&2

@@ -269,8 +269,9 @@ def test_swap_sweep_guard_measures_what_the_fit_reports(tmp_path, offset):
     # the guard measures each cage as the fit filter's report will (LayerRoundTrip): in this double
     # build the layer keeps the cage's doubles and the fit's reader rounds them to float, except
     # far from the origin (offset 1e4: float steps of 1e-3 on a 2.3-long ellipsoid), where it keeps
-    # them; the kept cage's measure is then the report's, to the last bit (a guard that rounded to
-    # float, as MeshLab 2020.09's layer does, is 1e-5 off at the origin, and more far from it)
+    # them; the kept cage's measure is then the report's, to the last bit (measured 2026-12-05: a
+    # guard that always rounded to float, as MeshLab 2020.09's layer does, is 1.6e-5 off at 1e4;
+    # one that kept the doubles without the reader's rounding, 1e-5 off at the origin)
     ms = ellipsoid_meshset(offset=offset)
     g = ms.generate_fitmap_quad_simplification(targetpatches=150, swapsweep=3)
     assert g["sweep_unswept_rms_permille"] > 0 and g["sweep_swept_rms_permille"] > 0, g

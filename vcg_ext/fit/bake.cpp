@@ -124,11 +124,10 @@ void LayOutAtlas(int patches, const TriData& ref, const FitBakeParams& p, FitBak
 }
 
 // r.metrics: the limit (on its metric tessellation, AutoMetricSegments) and the displaced surface
-// against the reference (`scene` is the reference's), in per mille of its diagonal.
+// against the reference (`scene` is the reference's), in per mille of its diagonal `diag`;
+// unprojectable beyond `maxDist`.
 void MeasureResult(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene, const FitBakeParams& p,
-                   FitBakeResult& r) {
-  const double diag = BBoxDiagonal(ref.V);
-  const double maxDist = p.maxDistPercent / 100.0 * diag;
+                   double diag, double maxDist, FitBakeResult& r) {
   int Nm = p.metricSegments;
   if (Nm == 0)
     Nm = AutoMetricSegments(long(ref.F.size()), ls.NumFaces(), p.limitSegments);
@@ -197,7 +196,7 @@ FitBakeResult FitAndBake(const QuadData& control, const TriData& ref, const Embr
   if (p.computeMetrics) {
     prog(75, "Fit and bake: measuring", true);
     t = Clock::now();
-    MeasureResult(ls, ref, scene, p, r);
+    MeasureResult(ls, ref, scene, p, diag, maxDist, r);
     r.times.emplace_back("metrics", Since(t));
     r.memory.emplace_back("metrics", StagePeakMemoryMb());
   }
