@@ -1085,6 +1085,82 @@ size_t LoopSurface::CacheBytes() const {
 
 double LoopSurface::NetDiagonal() const { return impl_->diag; }
 
+namespace {
+
+// One level down into child c of the current triangle: its parameters (the affine map kA, kB,
+// clamped onto the triangle) and the chain rule J of the derivatives.
+inline void Descend(int c, double& v, double& w, double J[2][2]) {
+  double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
+  double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
+  v = nv; w = nw;
+  ClampParam(v, w);
+  StepJ(J, c);
+}
+
+// The control points, row-major `rows` x n, times the n points of P (xyz interleaved) into out.
+inline void MultiplyPoints(const double* rows, int count, int n, const double* P, double* out) {
+  for (int i = 0; i < count; ++i) {
+    double x = 0, y = 0, z = 0;
+    const double* row = rows + size_t(i) * n;
+    for (int j = 0; j < n; ++j) { x += row[j] * P[3 * j]; y += row[j] * P[3 * j + 1]; z += row[j] * P[3 * j + 2]; }
+    out[3 * i] = x; out[3 * i + 1] = y; out[3 * i + 2] = z;
+  }
+}
+
+// A self-similar corner net (net index `k`, its ring R): one matrix-vector product per level, no
+// allocation, down to the level whose child leaves the corner (evaluated as a box-spline patch).
+void EvalSelfSimilarCorner(const LoopSurface::Impl& I, int k, double v, double w, int order, double J[2][2],
+                           int& depth, LoopEval& e) {
+  const LNet& n0 = I.nets[k];
+  const Ring& R = I.rings[I.netRing[k]];
+  const int n = R.n;
+  double buf[2][96 * 3];
+  double* P = buf[0];
+  double* Q = buf[1];
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) P[3 * i + d] = n0.P[i][d];
+  for (;;) {
+    int c = depth >= I.maxDepth ? 3 : ChildOf(v, w);  // the nudge (Fig. 8)
+    Descend(c, v, w, J);
+    ++depth;
+    if (c != R.kc || depth > I.maxDepth + 2) {
+      if (c == R.kc) c = 3;  // cannot happen (the nudge picks the regular centre child)
+      double X12[12 * 3];
+      MultiplyPoints(R.T[c].data(), 12, n, P, X12);
+      Vec3 X[12];
+      for (int m = 0; m < 12; ++m) X[m] = Vec3(X12[3 * m], X12[3 * m + 1], X12[3 * m + 2]);
+      EvalPatch(MakePatch(X), v, w, order, e);
+      return;
+    }
+    MultiplyPoints(R.S.data(), n, n, P, Q);
+    std::swap(P, Q);
+  }
+}
+
+// Any other net (index `k`): subdivided on the fly until its triangle is regular (a box-spline
+// patch).
+void EvalBySubdivision(const LoopSurface::Impl& I, int k, double v, double w, int order, double J[2][2], int& depth,
+                       LoopEval& e) {
+  LNet n = I.nets[k];
+  Vec3 X[12];
+  for (;;) {
+    if (Gather(n, X)) {
+      EvalPatch(MakePatch(X), v, w, order, e);
+      return;
+    }
+    int c = depth >= I.maxDepth ? 3 : ChildOf(v, w);  // the nudge (Fig. 8)
+    Descend(c, v, w, J);
+    n = Subdivide(n, c);
+    ++depth;
+    if (depth > I.maxDepth + 2) {  // cannot happen for a valid net: bail out safely
+      EvalPatch(MakePatch(X), v, w, 0, e);
+      return;
+    }
+  }
+}
+
+}  // namespace
+
 bool LoopSurface::Evaluate(int face, double v, double w, LoopEval& e, int order) const {
   if (!Ok() || face < 0 || face >= NumFaces()) return false;
   ClampParam(v, w);
@@ -1096,80 +1172,18 @@ bool LoopSurface::Evaluate(int face, double v, double w, LoopEval& e, int order)
   } else {
     double J[2][2] = {{1, 0}, {0, 1}};
     int depth = 0;
-    while (code >= 0) {
-      int c = ChildOf(v, w);
-      double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
-      double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
-      v = nv; w = nw;
-      ClampParam(v, w);
-      StepJ(J, c);
+    while (code >= 0) {  // the precomputed levels
+      const int c = ChildOf(v, w);
+      Descend(c, v, w, J);
       code = I.nodes[code][c];
       ++depth;
     }
-    if (IsTile(code)) {
+    if (IsTile(code))
       EvalPatch(I.tiles[-1 - code], v, w, order, e);
-    } else if (I.netRing[code - kNetBase] >= 0) {
-      // self-similar corner net: one matrix-vector product per level, no allocation
-      const LNet& n0 = I.nets[code - kNetBase];
-      const Ring& R = I.rings[I.netRing[code - kNetBase]];
-      const int n = R.n;
-      double buf[2][96 * 3];
-      double* P = buf[0];
-      double* Q = buf[1];
-      for (int i = 0; i < n; ++i)
-        for (int d = 0; d < 3; ++d) P[3 * i + d] = n0.P[i][d];
-      for (;;) {
-        int c = depth >= I.maxDepth ? 3 : ChildOf(v, w);  // the nudge (Fig. 8)
-        double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
-        double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
-        v = nv; w = nw;
-        ClampParam(v, w);
-        StepJ(J, c);
-        ++depth;
-        if (c != R.kc || depth > I.maxDepth + 2) {
-          if (c == R.kc) c = 3;  // cannot happen (the nudge picks the regular centre child)
-          Vec3 X[12];
-          const double* T = R.T[c].data();
-          for (int m = 0; m < 12; ++m) {
-            double x = 0, y = 0, z = 0;
-            const double* row = T + size_t(m) * n;
-            for (int j = 0; j < n; ++j) { x += row[j] * P[3 * j]; y += row[j] * P[3 * j + 1]; z += row[j] * P[3 * j + 2]; }
-            X[m] = Vec3(x, y, z);
-          }
-          EvalPatch(MakePatch(X), v, w, order, e);
-          break;
-        }
-        const double* S = R.S.data();
-        for (int i = 0; i < n; ++i) {
-          double x = 0, y = 0, z = 0;
-          const double* row = S + size_t(i) * n;
-          for (int j = 0; j < n; ++j) { x += row[j] * P[3 * j]; y += row[j] * P[3 * j + 1]; z += row[j] * P[3 * j + 2]; }
-          Q[3 * i] = x; Q[3 * i + 1] = y; Q[3 * i + 2] = z;
-        }
-        std::swap(P, Q);
-      }
-    } else {
-      LNet n = I.nets[code - kNetBase];
-      Vec3 X[12];
-      for (;;) {
-        if (Gather(n, X)) {
-          EvalPatch(MakePatch(X), v, w, order, e);
-          break;
-        }
-        int c = depth >= I.maxDepth ? 3 : ChildOf(v, w);  // the nudge (Fig. 8)
-        double nv = kA[c][0][0] * v + kA[c][0][1] * w + kB[c][0];
-        double nw = kA[c][1][0] * v + kA[c][1][1] * w + kB[c][1];
-        v = nv; w = nw;
-        ClampParam(v, w);
-        StepJ(J, c);
-        n = Subdivide(n, c);
-        ++depth;
-        if (depth > I.maxDepth + 2) {  // cannot happen for a valid net: bail out safely
-          EvalPatch(MakePatch(X), v, w, 0, e);
-          break;
-        }
-      }
-    }
+    else if (I.netRing[code - kNetBase] >= 0)
+      EvalSelfSimilarCorner(I, code - kNetBase, v, w, order, J, depth, e);
+    else
+      EvalBySubdivision(I, code - kNetBase, v, w, order, J, depth, e);
     ApplyJacobian(J, e, order);
     e.depth = depth;
   }
