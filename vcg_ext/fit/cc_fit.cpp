@@ -202,13 +202,10 @@ void StencilRows(const LimitSurface& ls, const QuadData& control, const FitParam
   }
 }
 
-// The paper's literal §3.5 (FitMethod::PointToPoint): every row pulled to its projection along
-// the limit normal, one factorization, project -> solve until the RMS stops improving. The best
-// iterate in `best` (nV x 3); false with res.error set on a singular system or a cage far off.
-bool FitPointToPoint(const QuadData& control, const EmbreeScene& scene, const FitParams& p,
-                     std::vector<fitdetail::StencilRow>& rows, const std::vector<double>& weight, int nS,
-                     double maxDist, Clock::time_point t0, Progress& prog, Eigen::MatrixXd& best, FitResult& res) {
-  const int nV = int(control.V.size()), nRows = int(rows.size());
+// The stencil rows as sparse matrices: positions A, derivatives ADu and ADv (rows x nV). Frees
+// `rows`.
+void StencilMatrices(std::vector<fitdetail::StencilRow>& rows, int nV, SpMatR& A, SpMatR& ADu, SpMatR& ADv) {
+  const int nRows = int(rows.size());
   std::vector<Eigen::Triplet<double>> tA, tU, tV;
   size_t nnz = 0;
   for (const auto& r : rows) nnz += r.idx.size();
@@ -221,11 +218,49 @@ bool FitPointToPoint(const QuadData& control, const EmbreeScene& scene, const Fi
     }
   rows.clear();
   rows.shrink_to_fit();
-  SpMatR A(nRows, nV), ADu(nRows, nV), ADv(nRows, nV);
+  A.resize(nRows, nV); ADu.resize(nRows, nV); ADv.resize(nRows, nV);
   A.setFromTriplets(tA.begin(), tA.end());
   ADu.setFromTriplets(tU.begin(), tU.end());
   ADv.setFromTriplets(tV.begin(), tV.end());
-  tA.clear(); tU.clear(); tV.clear();
+}
+
+// One projection of the point-to-point fit: every row's limit point P moved along its limit
+// normal onto the input (T); the RMS distance of the patch samples [0, nS) and their share without
+// a hit (missFraction).
+double ProjectRows(const EmbreeScene& scene, const Eigen::MatrixXd& P, const Eigen::MatrixXd& Du,
+                   const Eigen::MatrixXd& Dv, int nS, double maxDist, Eigen::MatrixXd& T, double& missFraction) {
+  const int nRows = int(P.rows());
+  double sum = 0, wsum = 0;
+  long misses = 0, noTarget = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum, wsum, misses, noTarget)
+  for (int i = 0; i < nRows; ++i) {
+    Vec3 pi = P.row(i).transpose();
+    Vec3 n = Vec3(Du.row(i).transpose()).cross(Vec3(Dv.row(i).transpose()));
+    double nn = n.norm();
+    n = nn > 0 ? Vec3(n / nn) : Vec3::Zero();
+    Vec3 t;
+    bool hit = false;
+    if (!fitdetail::Project(scene, pi, n, maxDist, t, &hit)) ++noTarget;
+    if (i < nS) {
+      if (!hit) ++misses;
+      sum += (t - pi).squaredNorm();
+      wsum += 1;
+    }
+    T.row(i) = t.transpose();
+  }
+  missFraction = double(misses) / std::max(nS, 1);
+  return std::sqrt(sum / std::max(wsum, 1.0));
+}
+
+// The paper's literal §3.5 (FitMethod::PointToPoint): every row pulled to its projection along
+// the limit normal, one factorization, project -> solve until the RMS stops improving. The best
+// iterate in `best` (nV x 3); false with res.error set on a singular system or a cage far off.
+bool FitPointToPoint(const QuadData& control, const EmbreeScene& scene, const FitParams& p,
+                     std::vector<fitdetail::StencilRow>& rows, const std::vector<double>& weight, int nS,
+                     double maxDist, Clock::time_point t0, Progress& prog, Eigen::MatrixXd& best, FitResult& res) {
+  const int nV = int(control.V.size()), nRows = int(rows.size());
+  SpMatR A, ADu, ADv;
+  StencilMatrices(rows, nV, A, ADu, ADv);
   Eigen::VectorXd W = Eigen::Map<const Eigen::VectorXd>(weight.data(), nRows);
   SpMat AtW = SpMat(A.transpose()) * W.asDiagonal();
   SpMat M = AtW * A;
@@ -258,27 +293,8 @@ bool FitPointToPoint(const QuadData& control, const EmbreeScene& scene, const Fi
   for (int it = 0; it <= p.maxIterations; ++it) {
     auto tp = Clock::now();
     Eigen::MatrixXd P = A * X, Du = ADu * X, Dv = ADv * X;
-    double sum = 0, wsum = 0;
-    long misses = 0, noTarget = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sum, wsum, misses, noTarget)
-    for (int i = 0; i < nRows; ++i) {
-      Vec3 pi = P.row(i).transpose();
-      Vec3 n = Vec3(Du.row(i).transpose()).cross(Vec3(Dv.row(i).transpose()));
-      double nn = n.norm();
-      n = nn > 0 ? Vec3(n / nn) : Vec3::Zero();
-      Vec3 t;
-      bool hit = false;
-      if (!fitdetail::Project(scene, pi, n, maxDist, t, &hit)) ++noTarget;
-      if (i < nS) {
-        if (!hit) ++misses;
-        sum += (t - pi).squaredNorm();
-        wsum += 1;
-      }
-      T.row(i) = t.transpose();
-    }
+    const double rms = ProjectRows(scene, P, Du, Dv, nS, maxDist, T, res.rayMissFraction);
     res.secondsProject += Since(tp);
-    const double rms = std::sqrt(sum / std::max(wsum, 1.0));
-    res.rayMissFraction = double(misses) / std::max(nS, 1);
     if (it == 0 && res.rayMissFraction > p.maxMissFraction) {
       res.error = "the control mesh is far from the reference: " +
                   std::to_string(int(std::round(100 * res.rayMissFraction))) +
