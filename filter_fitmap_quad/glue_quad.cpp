@@ -245,7 +245,7 @@ void LogBudgetRetries(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, con
     if (r.budgetStartFaces > 0) b << " from a start decimated to " << r.budgetStartFaces << " triangles";
     b << " with the guard's tolerance at " << r.budgetDeviationFactor << " x the M-fitmap";
     if (r.budgetRelaxations != 2) b << " (doubled)";
-    b << ": " << r.patches << " patches";
+    b << ": " << r.patches << " patches (the ladder's rungs run, in order: " << r.budgetRungsRun << ")";
     ctx.log(b.str());
   }
   if (r.layoutTrialsRun > 1) {

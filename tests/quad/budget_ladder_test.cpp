@@ -92,3 +92,37 @@ TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardGoesDownTheLadder) {
   EXPECT_EQ(re.budgetDeviationFactor, -1.0);
   EXPECT_LE(re.patches, 60);
 }
+
+// A first pass far above the budget (more than 2.5 x) tries the coarse starts first, and the
+// same start with the guard doubled (rung 1, a whole pass on the working start) only when they
+// miss (budget_ladder.cpp kFarAboveBudget). The cigar of the test above, whose first pass stops at
+// 24 patches (measured 2026-12-05): budgets of 10 and 12 (24 <= 2.5 x) run rung 1 first as before;
+// 6 and 8 are reached by a coarse start and rung 1 never runs; for 9 the coarse starts miss
+// (15 patches) and rung 1 runs last.
+TEST(QuadSimplify, BudgetFarBelowTheFirstPassTriesTheCoarseStartsFirst) {
+  quadtest::CigarBudget c;
+  vcgext::EmbreeScene scene(c.t);
+  for (int budget : {6, 8, 9, 10, 12}) {
+    auto p = c.p;
+    p.targetPatches = budget;
+    const auto r = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, p);
+    ASSERT_EQ(r.error, "");
+    ExpectGuarantees(c.t, r);
+    std::printf("budget %d: first pass %d, rungs run \"%s\", kept rung %d: %d patches\n", budget, r.budgetFromPatches,
+                r.budgetRungsRun.c_str(), r.budgetRelaxations, r.patches);
+    ASSERT_EQ(r.budgetFromPatches, 24) << "the cigar's first pass";
+    ASSERT_FALSE(r.budgetRungsRun.empty());
+    const bool far = r.budgetFromPatches > 2.5 * budget;
+    const bool reached = vcgext::BudgetReached(r.patches, budget);
+    if (!far) {
+      EXPECT_EQ(r.budgetRungsRun[0], '1') << budget;
+    } else if (reached) {
+      EXPECT_EQ(r.budgetRungsRun.find('1'), std::string::npos) << budget << ": reached without rung 1";
+      EXPECT_EQ(r.budgetRungsRun[0], '2') << budget;
+    } else {
+      EXPECT_EQ(r.budgetRungsRun.back(), '1') << budget << ": rung 1 after the coarse starts missed";
+      EXPECT_EQ(r.budgetRungsRun.find('1'), r.budgetRungsRun.size() - 1) << budget;
+    }
+    EXPECT_EQ(far && reached, budget == 6 || budget == 8) << budget;
+  }
+}

@@ -18,6 +18,17 @@ namespace {
 // when it flips more (RetryCoversAsWell).
 constexpr double kUnreachedSlackPct = 0.1;
 
+// A first pass stopped above this many times the budget tries the coarse starts (rungs 2-4) before
+// rung 1, and rung 1 only when they miss the budget. Rung 1 (the same start, the guard's tolerance
+// doubled) closed gaps of up to 2.14 x on the data set @ 200 (dino.off: 428 -> 200 patches) and
+// reached no budget from farther (31 ladder runs: from 3.6-5.1 x it was kept 3 times at 260-773
+// patches, the coarse starts doing no better), while it is a whole pass on the working start: a x4
+// copy of man.off @ 200 spent 22 s in it for 1 501 patches before the 500-triangle start reached
+// 222; man.off @ 200 runs in 29.8 s instead of 54.9 with the same cage. Run first on every ladder,
+// the coarse starts lost on 3 of those 31 runs (triceratops 1.56 -> 2.65 per mille): from the full
+// start rung 1 lays out better when it too reaches the budget. docs/quad.md "Budget ladder".
+constexpr double kFarAboveBudget = 2.5;
+
 // Whether a retry g of the budget ladder covers the input about as well as the first pass r, which
 // stopped above the budget: at most 0.1 % more of the input's area beyond its interpolating limit's
 // outline (issue 13's unprojectable target); fitted and measured as the report will
@@ -86,12 +97,14 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   QuadSimplifyResult best;  // the retry kept so far (patches 0: none)
   double spent = 0;         // seconds of the retries not kept
   std::string notes;        // why retries were not kept
+  std::string rungsRun;     // QuadSimplifyResult::budgetRungsRun
   FittedMeasure rFitted{-1.0, 100.0, -1};  // the first pass's fitted measure (RetryCoversAsWell)
   // one retry from `from` with the guard factor `guard`; rung: its place in the ladder
   auto attempt = [&](const TriData& from, double guard, int rung, const char* what) {
     QuadSimplifyParams lp = LayoutParams(params, target);
     lp.deviationFactor = guard;
     QuadSimplifyResult g = SimplifyOnce(input, from, scene, S, M, lp, prog.Sub(90, 100), initialQuads);
+    rungsRun += char('0' + rung);
     const QuadSimplifyResult& cur = best.patches > 0 ? best : r;
     std::string why;
     if (!g.error.empty() || !(std::abs(g.patches - target) < std::abs(cur.patches - target)) ||
@@ -109,7 +122,13 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
     g.budgetStartFaces = &from == &start ? 0 : int(from.F.size());
     best = std::move(g);
   };
-  attempt(start, 2 * params.deviationFactor, 1, "with the thin-part guard's tolerance doubled");
+  // rung 1, the same start with the guard doubled: a whole pass on the working start, first unless
+  // the first pass stopped far above the budget (kFarAboveBudget)
+  const bool farAbove = r.patches > kFarAboveBudget * target;
+  const auto sameStartDoubled = [&] {
+    attempt(start, 2 * params.deviationFactor, 1, "with the thin-part guard's tolerance doubled");
+  };
+  if (!farAbove) sameStartDoubled();
   // a start decimated to `faces` triangles (vcglib's quadric collapse, WorkingResolution); empty
   // when the start is not much larger or the decimation stopped far above it (no valid collapse
   // left: b9_mesh stopped at 1 958 triangles for 800, whose pairing failed and whose 5 874 split
@@ -140,8 +159,10 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   if (!last.mesh.F.empty())
     attempt(last.mesh, 2 * params.deviationFactor, 4,
             "from a start of 2.5 x the budget in triangles, the guard's tolerance doubled");
+  if (farAbove && !(best.patches > 0 && reached(best))) sameStartDoubled();
   QuadSimplifyResult& kept = best.patches > 0 ? best : r;
   if (!notes.empty()) AppendMessage(kept.message, notes);
+  kept.budgetRungsRun = rungsRun;
   if (best.patches == 0) {
     r.secondsTotal += spent;
     r.secondsBudgetRetries = spent;

@@ -248,6 +248,10 @@ struct QuadSimplifyResult {
   int budgetFromPatches = 0;
   int budgetStartFaces = 0;
   double secondsBudgetRetries = 0;  ///< the ladder's passes not kept (the first pass's too), in secondsTotal
+  /// The rungs the ladder ran, in order (e.g. "1234", "234": rung 1 runs after the coarse starts
+  /// when the first pass stopped above kFarAboveBudget x the budget, and not when one of them
+  /// reached it); empty: no ladder.
+  std::string budgetRungsRun;
   /// Layout trials (layoutTrials > 1): the valence weight of the kept trial, how many ran, and
   /// the time of those not kept (in secondsTotal).
   double trialValenceWeight = -1;
