@@ -7,8 +7,10 @@
 #include <cstdio>
 
 #include "quad_test_util.h"
+#include "simplify_test_util.h"
 #include "bumpy_sphere.h"
 #include "test_support.h"
+#include "vcg_ext/quad/quad_simplify.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/working_start.h"
 #include "vcg_ext/subdiv/limit_surface.h"
@@ -118,4 +120,31 @@ TEST(WorkingStart, UndecimatableInputHasNoFirstStart) {
   EXPECT_FALSE(w.start.differs);
   ASSERT_EQ(w.start.warnings.size(), 1u);
   EXPECT_NE(w.start.warnings[0].find("full input"), std::string::npos);
+}
+
+// Under a budget the first start goes down its own ladder (working_start.h kFirstStartBudgetSlack):
+// the cigar of the budget-ladder tests (5 120 triangles, a 12-patch budget its first pass stops at
+// 24 above) as a dense input with a working resolution of 4 000 triangles and a first start of
+// 1 000. Before 2026-12-05 that first start missed the budget and the working resolution ran.
+TEST(WorkingStart, FirstStartUnderABudgetGoesDownItsOwnLadder) {
+  quadtest::CigarBudget c;
+  vcgext::EmbreeScene scene(c.t);
+  vcgext::StartMeshParams sp;
+  sp.workingFaces = 4000;
+  const vcgext::WorkingStartResult w = vcgext::SimplifyFromWorkingStart(c.t, scene, c.S, c.M, c.p, sp, 1000);
+  ASSERT_EQ(w.result.error, "");
+  quadtest::ExpectGuarantees(c.t, w.result);
+  std::printf("cigar @ 12 from a first start of %d triangles: %d patches (first pass %d, rungs run %s, kept rung %d)\n",
+              w.firstStartFaces, w.result.patches, w.result.budgetFromPatches, w.result.budgetRungsRun.c_str(),
+              w.result.budgetRelaxations);
+  EXPECT_NEAR(w.firstStartFaces, 1000, 8);
+  EXPECT_TRUE(w.firstKept) << w.fallbackReason;
+  EXPECT_GT(w.result.budgetRelaxations, 0) << "a rung of the first start's ladder";
+  EXPECT_GT(w.result.budgetFromPatches, 12);
+  EXPECT_LE(w.result.patches, vcgext::kFirstStartBudgetSlack * 12);
+  EXPECT_EQ(w.firstPatches, w.result.patches);
+  // the first start itself, simplified with the same parameters, gives the same cage bit for bit
+  const auto direct = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, c.p, nullptr, nullptr, &w.start.work.mesh);
+  EXPECT_EQ(direct.quads.F, w.result.quads.F);
+  EXPECT_EQ(direct.quads.V, w.result.quads.V);
 }

@@ -25,11 +25,11 @@ QuadSimplifyResult SimplifyFrom(const TriData& input, const EmbreeScene& scene, 
   return SimplifyToQuads(input, scene, S, M, params, cb, nullptr, start.differs ? &start.work.mesh : nullptr);
 }
 
-// The first start's pass: `params` without the retries that would start over (budget ladder,
-// coverage guard, start refinement, rescue): when one would be needed the working resolution runs
-// them (FirstStartRefused).
-QuadSimplifyParams SinglePass(QuadSimplifyParams p) {
-  p.budgetLadder = false;
+// The first start's pass: `params` without the retries that would start over without a budget
+// (coverage guard, start refinement, rescue): when one would be needed the working resolution runs
+// them (FirstStartRefused). Under a budget with its ladder (kFirstStartBudgetSlack).
+QuadSimplifyParams FirstStartPass(QuadSimplifyParams p) {
+  if (p.targetPatches <= 0) p.budgetLadder = false;
   p.coverageRmsPermille = 0;
   p.coverageUnprojectablePct = 0;
   p.startRmsPermille = 0;
@@ -45,9 +45,13 @@ std::string FirstStartRefused(const TriData& input, const QuadSimplifyParams& pa
                               long startFaces) {
   if (!r.error.empty()) return r.error;
   const int target = params.targetPatches;
-  if (StartLimitedResult(r.patches, startFaces, target))
-    return target > 0 ? "it missed the budget" : "its count is above 1/16 of its triangles";
-  if (target > 0) return {};  // a budget reached: no retry runs
+  char buf[160];
+  if (target > 0) {
+    if (!(r.patches > kFirstStartBudgetSlack * target)) return {};
+    std::snprintf(buf, sizeof buf, "its ladder stopped above %g x the budget", kFirstStartBudgetSlack);
+    return buf;
+  }
+  if (StartLimitedResult(r.patches, startFaces, target)) return "its count is above 1/16 of its triangles";
   const double diag = BBoxDiagonal(input.V);
   const bool byArea = params.coverageUnprojectablePct > 0;
   const simplify_internal::Coverage c = simplify_internal::InterpolationCoverage(input, r.quads, byArea);
@@ -55,7 +59,6 @@ std::string FirstStartRefused(const TriData& input, const QuadSimplifyParams& pa
   double far = std::numeric_limits<double>::infinity();
   for (const double permille : {params.coverageRmsPermille, params.startRmsPermille, params.rescueRmsPermille})
     if (permille > 0) far = std::min(far, permille / 1000.0 * diag);
-  char buf[160];
   if (c.rms > far) {
     std::snprintf(buf, sizeof buf, "its limit is %.3g per mille from the input (RMS)", 1000 * c.rms / diag);
     return buf;
@@ -118,7 +121,7 @@ WorkingStartResult SimplifyFromWorkingStart(const TriData& input, const EmbreeSc
                     slivers, inputSlivers);
       w.fallbackReason = buf;
     } else {
-      w.result = SimplifyFrom(input, scene, S, M, SinglePass(params), w.start, cb);
+      w.result = SimplifyFrom(input, scene, S, M, FirstStartPass(params), w.start, cb);
       w.firstPatches = w.result.patches;
       w.fallbackReason = FirstStartRefused(input, params, w.result, w.firstStartFaces);
     }

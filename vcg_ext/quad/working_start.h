@@ -31,6 +31,15 @@ inline constexpr double kSliverAngleDeg = 10;
 /// 10k triangles: 6.0 % slivers against the input's 0.0 %, its pass 12 s for a cage of 2 013 patches
 /// instead of 763; the data set's scans above 40k triangles: 0.1-0.4 %).
 inline constexpr double kMaxAddedSliverPct = 1.0;
+/// Under a budget the first start runs its own budget ladder (its coarse starts are decimations of
+/// the first start instead of the working resolution) and is kept when its cage is at most this
+/// many times the budget; farther, the working resolution runs with its ladder. Measured
+/// (docs/multires.md "The first start's own ladder", dense copies and the data set's scans above
+/// 40k triangles @ 200 / 400): where a first pass stopped above the budget its ladder reached 400
+/// on every copy (camel x4: 400 patches, 0.99 per mille, instead of the working resolution's 443,
+/// 1.23) and came within 1.10 x of 200 where the working resolution's ended at 1.11-1.13 x (man,
+/// triceratops, elephant copies); the one beyond (camel x4 @ 200: 426) falls back, as before.
+inline constexpr double kFirstStartBudgetSlack = 1.1;
 /// Share (%) of the triangles of `m` that are slivers (kSliverAngleDeg).
 double SliverSharePct(const TriData& m);
 
@@ -43,9 +52,11 @@ bool StartLimitedResult(int patches, long startFaces, int target);
 /// SimplifyToQuads from the start ChooseStartMesh(input, sp) picks, except for a dense input (more
 /// triangles than sp.workingFaces > firstFaces > 0): that is first simplified from its decimation to
 /// max(firstFaces, 4 targetPatches) triangles, and from the working resolution only when that
-/// first cage was limited by its start (StartLimitedResult) or would have needed one of the retries
-/// SimplifyToQuads runs (budget ladder, coverage guard, start refinement, rescue: the first pass
-/// runs without them), or when that start has too many slivers (kMaxAddedSliverPct: no first pass). Measured (docs/multires.md "A coarser
+/// first cage was limited by its start (without a budget: StartLimitedResult; under one: above
+/// kFirstStartBudgetSlack x the budget after its own ladder) or would have needed one of the
+/// retries SimplifyToQuads runs without a budget (coverage guard, start refinement, rescue: the
+/// first pass runs without them), or when that start has too many slivers (kMaxAddedSliverPct: no
+/// first pass). Measured (docs/multires.md "A coarser
 /// first start"): bunny00 and the data set's other scans above 40k triangles keep their errors
 /// (geometric means x0.98-1.01) at two thirds of the wall time; a CAD part decimated that far can
 /// lose its simplifiability (fandisk_large, 31k triangles, from 10k: 1 025 patches instead of 268
