@@ -125,7 +125,8 @@ TEST(WorkingStart, UndecimatableInputHasNoFirstStart) {
 // Under a budget the first start goes down its own ladder (working_start.h kFirstStartBudgetSlack):
 // the cigar of the budget-ladder tests (5 120 triangles, a 12-patch budget its first pass stops at
 // 24 above) as a dense input with a working resolution of 4 000 triangles and a first start of
-// 1 000. Before 2026-12-05 that first start missed the budget and the working resolution ran.
+// 1 000. Until 2026-12-05 23:50 (one pass, no ladder) that first start missed the budget (its pass:
+// 31 patches) and the working resolution ran.
 TEST(WorkingStart, FirstStartUnderABudgetGoesDownItsOwnLadder) {
   quadtest::CigarBudget c;
   vcgext::EmbreeScene scene(c.t);

@@ -77,7 +77,7 @@ struct QuadSimplifyParams {
   double maxDeviationPercent = 0.0;
   bool finalReinterpolation = true;  ///< one global solve at the end: all limit vertices back onto the input
   /// Under a budget, the budget ladder's retries when the first pass stops above it (docs/quad.md
-  /// "Budget ladder"); false: the first pass as it is (SimplifyFromWorkingStart's first start).
+  /// "Budget ladder"); false: the first pass as it is.
   bool budgetLadder = true;
   bool validateEveryOperation = false;  ///< test mode: full validity check after every step (O(F) each)
   /// How the patches are spent when the count is the paper's (targetPatches 0, M-fitmap test on).

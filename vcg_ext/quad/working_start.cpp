@@ -29,7 +29,6 @@ QuadSimplifyResult SimplifyFrom(const TriData& input, const EmbreeScene& scene, 
 // (coverage guard, start refinement, rescue): when one would be needed the working resolution runs
 // them (FirstStartRefused). Under a budget with its ladder (kFirstStartBudgetSlack).
 QuadSimplifyParams FirstStartPass(QuadSimplifyParams p) {
-  if (p.targetPatches <= 0) p.budgetLadder = false;
   p.coverageRmsPermille = 0;
   p.coverageUnprojectablePct = 0;
   p.startRmsPermille = 0;

@@ -44,7 +44,8 @@ inline constexpr double kFirstStartBudgetSlack = 1.1;
 double SliverSharePct(const TriData& m);
 
 /// Whether a cage of `patches` simplified from a start of `startFaces` triangles was limited by
-/// that start: under a budget (`target` > 0), when the budget was missed (BudgetReached);
+/// that start: under a budget (`target` > 0), when the budget was missed (BudgetReached; the first
+/// start under a budget is judged by kFirstStartBudgetSlack after its ladder instead);
 /// without one, when the count is above startFaces / 16 (the quads reduced less than 8x, the
 /// count pass's own rule, QuadSimplifyParams::countFaces).
 bool StartLimitedResult(int patches, long startFaces, int target);
