@@ -231,8 +231,8 @@ double ProjectRows(const EmbreeScene& scene, const Eigen::MatrixXd& P, const Eig
                    const Eigen::MatrixXd& Dv, int nS, double maxDist, Eigen::MatrixXd& T, double& missFraction) {
   const int nRows = int(P.rows());
   double sum = 0, wsum = 0;
-  long misses = 0, noTarget = 0;
-#pragma omp parallel for schedule(static) reduction(+ : sum, wsum, misses, noTarget)
+  long misses = 0;
+#pragma omp parallel for schedule(static) reduction(+ : sum, wsum, misses)
   for (int i = 0; i < nRows; ++i) {
     Vec3 pi = P.row(i).transpose();
     Vec3 n = Vec3(Du.row(i).transpose()).cross(Vec3(Dv.row(i).transpose()));
@@ -240,7 +240,7 @@ double ProjectRows(const EmbreeScene& scene, const Eigen::MatrixXd& P, const Eig
     n = nn > 0 ? Vec3(n / nn) : Vec3::Zero();
     Vec3 t;
     bool hit = false;
-    if (!fitdetail::Project(scene, pi, n, maxDist, t, &hit)) ++noTarget;
+    fitdetail::Project(scene, pi, n, maxDist, t, &hit);  // t: the target, pi itself without one
     if (i < nS) {
       if (!hit) ++misses;
       sum += (t - pi).squaredNorm();

@@ -99,6 +99,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   std::string notes;        // why retries were not kept
   std::string rungsRun;     // QuadSimplifyResult::budgetRungsRun
   FittedMeasure rFitted{-1.0, 100.0, -1};  // the first pass's fitted measure (RetryCoversAsWell)
+  const auto bestReached = [&] { return best.patches > 0 && reached(best); };
   // one retry from `from` with the guard factor `guard`; rung: its place in the ladder
   auto attempt = [&](const TriData& from, double guard, int rung, const char* what) {
     QuadSimplifyParams lp = LayoutParams(params, target);
@@ -135,7 +136,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   // quads took 78 s per pass and ended at 5 165 patches)
   auto coarser = [&](long faces) {
     DecimateResult c;
-    if (!(best.patches > 0 && reached(best)) && !(initialQuads && !initialQuads->empty()) &&
+    if (!bestReached() && !(initialQuads && !initialQuads->empty()) &&
         long(start.F.size()) > faces + faces / 4) {
       WorkingResolutionParams wp;
       wp.maxFaces = int(faces);
@@ -148,7 +149,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   const DecimateResult coarse = coarser(4L * target);
   if (!coarse.mesh.F.empty()) {
     attempt(coarse.mesh, params.deviationFactor, 2, "from a start of 4 x the budget in triangles");
-    if (!(best.patches > 0 && reached(best)))
+    if (!bestReached())
       attempt(coarse.mesh, 2 * params.deviationFactor, 3,
               "from a start of 4 x the budget in triangles, the guard's tolerance doubled");
   }
@@ -159,7 +160,7 @@ QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, cons
   if (!last.mesh.F.empty())
     attempt(last.mesh, 2 * params.deviationFactor, 4,
             "from a start of 2.5 x the budget in triangles, the guard's tolerance doubled");
-  if (farAbove && !(best.patches > 0 && reached(best))) sameStartDoubled();
+  if (farAbove && !bestReached()) sameStartDoubled();
   QuadSimplifyResult& kept = best.patches > 0 ? best : r;
   if (!notes.empty()) AppendMessage(kept.message, notes);
   kept.budgetRungsRun = rungsRun;
