@@ -48,11 +48,14 @@ TEST(WorkingStart, SliverShareCountsTrianglesWithAnAngleBelowTenDegrees) {
   EXPECT_EQ(vcgext::SliverSharePct(TriData()), 0.0);
 }
 
+// The two rules that send a first start's cage to the working resolution: a budget missed (judged
+// by BudgetReached, 2 % slack, and kFirstStartBudgetSlack after its ladder) or, without one, a count
+// above 1/16 of its triangles.
 TEST(WorkingStart, StartLimitedByTheBudgetOrByACountAboveASixteenthOfItsTriangles) {
-  EXPECT_FALSE(vcgext::StartLimitedResult(408, 1600, 400));  // 2 % above: reached
-  EXPECT_TRUE(vcgext::StartLimitedResult(409, 1600, 400));
-  EXPECT_FALSE(vcgext::StartLimitedResult(625, 10000, 0));
-  EXPECT_TRUE(vcgext::StartLimitedResult(626, 10000, 0));
+  EXPECT_TRUE(vcgext::BudgetReached(408, 400));  // 2 % above: reached
+  EXPECT_FALSE(vcgext::BudgetReached(409, 400));
+  EXPECT_FALSE(vcgext::CountBoundedByStart(625, 10000));
+  EXPECT_TRUE(vcgext::CountBoundedByStart(626, 10000));
 }
 
 // A smooth dense shape (the bumpy sphere, 20 480 triangles) above a working resolution of 5 120:

@@ -13,10 +13,6 @@
 
 namespace vcgext {
 
-bool StartLimitedResult(int patches, long startFaces, int target) {
-  return target > 0 ? !BudgetReached(patches, target) : CountBoundedByStart(patches, startFaces);
-}
-
 namespace {
 
 QuadSimplifyResult SimplifyFrom(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
@@ -50,7 +46,7 @@ std::string FirstStartRefused(const TriData& input, const QuadSimplifyParams& pa
     std::snprintf(buf, sizeof buf, "its ladder stopped above %g x the budget", kFirstStartBudgetSlack);
     return buf;
   }
-  if (StartLimitedResult(r.patches, startFaces, target)) return "its count is above 1/16 of its triangles";
+  if (CountBoundedByStart(r.patches, startFaces)) return "its count is above 1/16 of its triangles";
   const double diag = BBoxDiagonal(input.V);
   const bool byArea = params.coverageUnprojectablePct > 0;
   const simplify_internal::Coverage c = simplify_internal::InterpolationCoverage(input, r.quads, byArea);

@@ -43,18 +43,12 @@ inline constexpr double kFirstStartBudgetSlack = 1.1;
 /// Share (%) of the triangles of `m` that are slivers (kSliverAngleDeg).
 double SliverSharePct(const TriData& m);
 
-/// Whether a cage of `patches` simplified from a start of `startFaces` triangles was limited by
-/// that start: under a budget (`target` > 0), when the budget was missed (BudgetReached; the first
-/// start under a budget is judged by kFirstStartBudgetSlack after its ladder instead);
-/// without one, when the count is above startFaces / 16 (the quads reduced less than 8x, the
-/// count pass's own rule, QuadSimplifyParams::countFaces).
-bool StartLimitedResult(int patches, long startFaces, int target);
-
 /// SimplifyToQuads from the start ChooseStartMesh(input, sp) picks, except for a dense input (more
 /// triangles than sp.workingFaces > firstFaces > 0): that is first simplified from its decimation to
 /// max(firstFaces, 4 targetPatches) triangles, and from the working resolution only when that
-/// first cage was limited by its start (without a budget: StartLimitedResult; under one: above
-/// kFirstStartBudgetSlack x the budget after its own ladder) or would have needed one of the
+/// first cage was limited by its start (without a budget: its count above 1/16 of the start's
+/// triangles, CountBoundedByStart; under one: above kFirstStartBudgetSlack x the budget after its
+/// own ladder) or would have needed one of the
 /// retries SimplifyToQuads runs without a budget (coverage guard, start refinement, rescue: the
 /// first pass runs without them), or when that start has too many slivers (kMaxAddedSliverPct: no
 /// first pass). Measured (docs/multires.md "A coarser
