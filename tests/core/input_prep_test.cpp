@@ -134,14 +134,48 @@ TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
   EXPECT_EQ(w.nonManifoldEdges, 1);
   EXPECT_NE(w.error.find("Repair non Manifold"), std::string::npos) << w.error;
 
-  TriData bowtie;  // two triangles touching at one vertex
+  // (the fin's two ends count as vertices joining separate pieces too: its edge joins nothing)
+  EXPECT_EQ(w.nonManifoldVertices, 2);
+
+  // a fin and a bow-tie: the edge is an error, and the message names both kinds
+  TriData both = fin;
+  both.V.push_back(Vec3(3, 0, 0));
+  both.V.push_back(Vec3(3, 1, 0));
+  int corner = 0;  // a grid vertex away from the fin
+  while (corner == shared.first || corner == shared.second) ++corner;
+  both.F.push_back({corner, int(both.V.size()) - 2, int(both.V.size()) - 1});
+  w = vcgext::PrepareWorkingCopy(both);
+  EXPECT_EQ(w.nonManifoldEdges, 1);
+  EXPECT_EQ(w.nonManifoldVertices, 3);
+  EXPECT_NE(w.error.find("1 edge is shared by more than two triangles and 3 vertices join separate pieces"),
+            std::string::npos) << w.error;
+  EXPECT_NE(w.error.find("Repair non Manifold Vertices"), std::string::npos) << w.error;
+}
+
+// A bow-tie (two triangles touching at one vertex) is split, as MeshLab's Repair non Manifold
+// Vertices does: the shared vertex gets a copy for the second triangle, both at its position and
+// both mapped to it, so per-vertex results go back to the layer's vertex.
+TEST(InputPrep, NonManifoldVerticesAreSplitIntoOneCopyPerSheet) {
+  TriData bowtie;
   bowtie.V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
   bowtie.F = {{0, 1, 2}, {0, 3, 4}};
-  w = vcgext::PrepareWorkingCopy(bowtie);
+  WorkingCopy w = vcgext::PrepareWorkingCopy(bowtie);
+  ASSERT_EQ(w.error, "");
   EXPECT_EQ(w.nonManifoldEdges, 0);
   EXPECT_EQ(w.nonManifoldVertices, 1);
-  EXPECT_NE(w.error.find("the mesh is non-manifold: 1 vertex joins"), std::string::npos) << w.error;
-  EXPECT_EQ(w.error.find("0 edges"), std::string::npos) << w.error;  // only the kinds present
+  EXPECT_EQ(w.splitVertices, 1);
+  ASSERT_EQ(w.mesh.V.size(), 6u);
+  ASSERT_EQ(w.mesh.F.size(), 2u);
+  EXPECT_EQ(w.meshToLive[5], 0);                 // the copy stands for the layer's vertex 0
+  EXPECT_EQ(w.mesh.V[5], bowtie.V[0]);
+  EXPECT_EQ(w.liveToMesh[0], 0);                 // which keeps the first sheet's vertex
+  EXPECT_EQ(w.mesh.F[0][0], 0);
+  EXPECT_EQ(w.mesh.F[1][0], 5);                  // the second sheet uses the copy
+  ASSERT_FALSE(w.notes.empty());
+  EXPECT_NE(w.notes[0].find("split 1 vertex where separate pieces of surface touch"), std::string::npos) << w.notes[0];
+  EXPECT_EQ(vcgext::ToLiveVertices(w, std::vector<int>{7, 1, 2, 3, 4, 8}, -1), (std::vector<int>{7, 1, 2, 3, 4}));
+  std::vector<vcgext::Quad> quads{{0, 1, 2, 3}};
+  EXPECT_FALSE(vcgext::RemapQuadsToWorkingCopy(w, quads));  // a corner could be either copy
 }
 
 namespace {
@@ -192,6 +226,15 @@ TEST(InputPrep, NonManifoldCountsMatchBruteForceOnRandomDamage) {
     WorkingCopy w = vcgext::PrepareWorkingCopy(t);
     EXPECT_EQ(w.nonManifoldEdges, edges) << "trial " << trial;
     EXPECT_EQ(w.nonManifoldVertices, vertices) << "trial " << trial;
+    // without a non-manifold edge the vertices are split: a manifold copy of the same faces, each
+    // vertex where its layer vertex is
+    EXPECT_EQ(w.error.empty(), edges == 0) << "trial " << trial << ": " << w.error;
+    if (edges == 0) {
+      EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0)) << "trial " << trial;
+      EXPECT_EQ(w.mesh.F.size(), t.F.size());
+      EXPECT_GE(int(w.mesh.V.size()), int(t.V.size()) + vertices);  // at least one copy per split vertex
+      for (size_t v = 0; v < w.mesh.V.size(); ++v) EXPECT_EQ(w.mesh.V[v], t.V[size_t(w.meshToLive[v])]);
+    }
     // renumbered and reordered: the same counts
     std::vector<int> perm(t.V.size());
     std::iota(perm.begin(), perm.end(), 0);

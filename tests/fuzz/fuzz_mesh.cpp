@@ -166,7 +166,8 @@ void CheckImport(const vcgext::ImportReport& rep, const TriData& t, bool keepDeg
 }
 
 // PrepareWorkingCopy's promise (input_prep.h): referenced vertices only, no degenerate or repeated
-// faces, manifold (every vertex fan one disk or half-disk), consistently oriented, consistent maps.
+// faces, manifold (every vertex fan one disk or half-disk: non-manifold vertices split into copies
+// at their position), consistently oriented, consistent maps.
 void CheckWorkingCopy(const vcgext::WorkingCopy& w, int liveVertices) {
   if (!w.error.empty()) return;
   const TriData& m = w.mesh;
@@ -175,11 +176,19 @@ void CheckWorkingCopy(const vcgext::WorkingCopy& w, int liveVertices) {
   REQUIRE(int(w.liveToMesh.size()) == liveVertices, "liveToMesh has %zu entries for %d live vertices",
           w.liveToMesh.size(), liveVertices);
   REQUIRE(int(w.meshToLive.size()) == n, "meshToLive size %zu != %d", w.meshToLive.size(), n);
+  int copies = 0;  // vertices the split of non-manifold vertices made: their layer vertex maps to another
   for (int j = 0; j < n; ++j) {
     const int l = w.meshToLive[j];
-    REQUIRE(l >= 0 && l < liveVertices && w.liveToMesh[l] == j, "meshToLive[%d] = %d does not map back", j, l);
+    REQUIRE(l >= 0 && l < liveVertices, "meshToLive[%d] = %d out of range", j, l);
+    if (w.liveToMesh[l] != j) {
+      ++copies;
+      REQUIRE(w.liveToMesh[l] >= 0 && m.V[w.liveToMesh[l]] == m.V[j],
+              "meshToLive[%d] = %d does not map back, nor to a copy at its position", j, l);
+    }
     REQUIRE(m.V[j].allFinite(), "non-finite working vertex %d", j);
   }
+  REQUIRE(copies >= w.splitVertices && (copies > 0) == (w.splitVertices > 0), "%d copies for %d split vertices",
+          copies, w.splitVertices);
   for (int l : w.liveToMesh) REQUIRE(l >= -1 && l < n, "liveToMesh entry %d out of range", l);
   std::vector<char> used(n, 0);
   std::set<std::pair<int, int>> directed;

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <set>
 
 #include "test_support.h"
 #include "vcg_ext/core/embree_scene.h"
@@ -512,4 +513,32 @@ TEST(LoopSnap, SurfacePointsSnapToThemselves) {
   }
   EXPECT_EQ(far, 0) << "of " << total << ", worst " << worst;
   EXPECT_EQ(notConverged, 0) << "of " << total;
+}
+
+// A hard edge selected on a layer whose vertex the working copy split (two tetrahedra touching at
+// vertex 0, input_prep.h): it goes to the copy whose sheet has the edge, so the Loop surface
+// builds (before the split was made: "not an edge of the mesh" for an edge of the second sheet).
+TEST(LoopVcg, HardEdgeAtASplitVertexGoesToItsSheet) {
+  TriData t;
+  t.V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
+  t.F = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}};
+  const vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(t);
+  ASSERT_EQ(w.error, "");
+  ASSERT_EQ(w.splitVertices, 1);
+  LoopSurfaceParams sp;
+  sp.creaseAngleDeg = 0;                    // only the selected edges are hard
+  sp.extraHardEdges = {{0, 1}, {4, 0}};     // one on each sheet
+  const LoopSurfaceParams p = vcgext::OnWorkingCopy(sp, w);
+  ASSERT_EQ(p.extraHardEdges.size(), 2u);
+  std::set<std::pair<int, int>> edges;
+  for (const auto& f : w.mesh.F)
+    for (int k = 0; k < 3; ++k) edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  for (const auto& [a, b] : p.extraHardEdges) {
+    EXPECT_TRUE(edges.count(std::minmax(a, b))) << a << "-" << b;
+    EXPECT_EQ(w.mesh.V[size_t(a)], t.V[size_t(w.meshToLive[size_t(a)])]);
+  }
+  EXPECT_NE(p.extraHardEdges[0].first, p.extraHardEdges[1].second);  // two copies of vertex 0
+  const vcgext::LoopSurface s(w.mesh, p);
+  EXPECT_TRUE(s.Ok()) << s.Error();
+  EXPECT_EQ(s.NumHardEdges(), 2);
 }

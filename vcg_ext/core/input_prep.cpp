@@ -107,11 +107,16 @@ EdgeFaces BuildEdgeFaces(const std::vector<Tri>& F) {
   return e;
 }
 
-// 3a. vertices whose incident faces form more than one fan (joined across manifold edges).
-int CountNonManifoldVertices(const std::vector<Tri>& F, const EdgeFaces& e, int nV) {
+// 3a. vertices whose incident faces form more than one fan (joined across manifold edges). With
+// `copyOf`, each fan but the one holding the vertex's first face gets its own copy of the vertex
+// (numbered nV, nV + 1, ... in the order made; copyOf lists the original of each) and its faces
+// are rewired to it: a bow-tie becomes two sheets that touch without sharing a vertex (MeshLab's
+// Repair non Manifold Vertices does the same). Needs every edge manifold (the fans of a vertex on
+// an edge of three faces are not separate pieces).
+int NonManifoldVertices(std::vector<Tri>& F, const EdgeFaces& e, int nV, std::vector<int>* copyOf) {
   // faces sharing a manifold edge are in one fan at both its ends
   const Adjacency vf = VertexFaceAdjacency(F, nV);
-  std::vector<int> local;
+  std::vector<int> local, copyOfRoot;
   int bad = 0;
   for (int v = 0; v < nV; ++v) {
     const int* fs = vf.Begin(v);
@@ -135,6 +140,20 @@ int CountNonManifoldVertices(const std::vector<Tri>& F, const EdgeFaces& e, int 
     int roots = 0;
     for (int i = 0; i < nf; ++i) roots += Find(local, i) == i;
     bad += roots > 1;
+    if (roots < 2 || !copyOf) continue;
+    // the fan of the first face keeps v; every other fan's root gets a copy
+    copyOfRoot.assign(size_t(nf), -1);
+    const int keep = Find(local, 0);
+    for (int i = 0; i < nf; ++i) {
+      const int root = Find(local, i);
+      if (root == keep) continue;
+      if (copyOfRoot[root] < 0) {
+        copyOfRoot[root] = nV + int(copyOf->size());
+        copyOf->push_back(v);
+      }
+      for (int& c : F[fs[i]])
+        if (c == v) c = copyOfRoot[root];
+    }
   }
   return bad;
 }
@@ -345,19 +364,23 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   }
   EdgeFaces e = BuildEdgeFaces(F);
   for (size_t id = 0; id + 1 < e.offs.size(); ++id) w.nonManifoldEdges += e.offs[id + 1] - e.offs[id] > 2;
-  w.nonManifoldVertices = CountNonManifoldVertices(F, e, n);
-  if (w.nonManifoldEdges || w.nonManifoldVertices) {
-    // only the kinds present: "0 edges are shared ..." reads like a contradiction
-    std::string what;
-    if (w.nonManifoldEdges)
-      what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
+  // 3b. vertices where separate pieces touch are split (one copy per piece) when every edge is
+  // manifold; an edge of three or more faces has no such repair that keeps every face (MeshLab's
+  // Repair non Manifold Edges deletes faces), so it is an error naming both kinds
+  std::vector<int> copyOf;  // per vertex made by the split (indices n, n + 1, ...): its original
+  w.nonManifoldVertices = NonManifoldVertices(F, e, n, w.nonManifoldEdges ? nullptr : &copyOf);
+  if (w.nonManifoldEdges) {
+    std::string what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
+    // only the kinds present: "0 vertices join ..." reads like a contradiction
     if (w.nonManifoldVertices)
-      what += (what.empty() ? "" : " and ") + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") +
-              " separate pieces of surface";
+      what += " and " + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") + " separate pieces of surface";
     w.error = "the mesh is non-manifold: " + what + "; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
-              "Edges and Repair non Manifold Vertices, then run this filter again";
+              "Edges" + std::string(w.nonManifoldVertices ? " and Repair non Manifold Vertices" : "") +
+              ", then run this filter again";
     return w;
   }
+  w.splitVertices = w.nonManifoldVertices;
+  if (!copyOf.empty()) e = BuildEdgeFaces(F);  // the split renamed edges at the split vertices
   w.flippedFaces = OrientComponents(F, e, &w.components, &w.nonOrientableComponents);
   if (w.nonOrientableComponents) {
     w.error = "the surface is not orientable (" + Plural(w.nonOrientableComponents, "component", "components") +
@@ -365,15 +388,17 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
               "a subdivision surface cannot follow it";
     return w;
   }
-  // 5. compact: referenced vertices only, in the layer's order
-  std::vector<int> newIndex(n, -1);
+  // 5. compact: referenced vertices only, in the layer's order, then the split's copies
+  const int nAll = n + int(copyOf.size());
+  std::vector<int> newIndex(size_t(nAll), -1);
   for (const Tri& f : F)
     for (int v : f) newIndex[v] = 0;
-  for (int v = 0; v < n; ++v)
+  for (int v = 0; v < nAll; ++v)
     if (newIndex[v] == 0) {
+      const int live = v < n ? v : copyOf[size_t(v - n)];
       newIndex[v] = int(w.mesh.V.size());
-      w.mesh.V.push_back(raw.V[v]);
-      w.meshToLive.push_back(v);
+      w.mesh.V.push_back(raw.V[live]);
+      w.meshToLive.push_back(live);
     }
   w.mesh.F.reserve(F.size());
   for (const Tri& f : F) w.mesh.F.push_back({newIndex[f[0]], newIndex[f[1]], newIndex[f[2]]});
@@ -392,6 +417,10 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   if (w.unreferencedVertices)
     w.notes.push_back("ignored " + Plural(w.unreferencedVertices, "unreferenced vertex", "unreferenced vertices") +
                       " (in no face)");
+  if (w.splitVertices)
+    w.notes.push_back("split " + Plural(w.splitVertices, "vertex", "vertices") +
+                      " where separate pieces of surface touch (one copy per piece, as Filters > Cleaning and "
+                      "Repairing > Repair non Manifold Vertices does; the layer's vertex shows the first piece's value)");
   if (w.flippedFaces)
     w.notes.push_back("re-oriented " + Plural(w.flippedFaces, "face", "faces") +
                       " so that every component is consistently oriented");
@@ -400,7 +429,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
 }  // namespace
 
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads) {
-  if (w.flippedFaces > 0) return false;
+  if (w.flippedFaces > 0 || w.splitVertices > 0) return false;
   for (Quad& q : quads) {
     for (int& v : q) {
       if (v < 0 || v >= int(w.liveToMesh.size()) || w.liveToMesh[v] < 0) return false;

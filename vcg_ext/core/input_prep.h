@@ -11,8 +11,9 @@
 ///     vertices kept apart on purpose: a surface touching itself, the sides of a crack);
 ///  2. faces that repeat a vertex after merging (degenerate) and repeated faces (same three
 ///     vertices, either orientation) are dropped;
-///  3. edges in more than two triangles, and vertices where separate sheets touch, are counted:
-///     an error names them and MeshLab's repair filters (the same in every filter);
+///  3. edges in more than two triangles are an error that names them and MeshLab's repair
+///     filters (the same in every filter); vertices where separate sheets touch (a bow-tie) are
+///     split into one copy per sheet, as MeshLab's Repair non Manifold Vertices does;
 ///  4. each connected component is oriented coherently, keeping the orientation of the majority
 ///     of its faces; a non-orientable component (a Möbius strip) is an error;
 ///  5. unreferenced vertices are left out (they get no value: -1 in `liveToMesh`).
@@ -42,6 +43,9 @@ struct WorkingCopy {
   int flippedFaces = 0;               ///< faces re-oriented
   int components = 0;
   int nonManifoldEdges = 0, nonManifoldVertices = 0, nonOrientableComponents = 0;
+  /// non-manifold vertices split into one copy per sheet (the copies follow the layer's vertices
+  /// in `mesh`; each maps to its layer vertex in meshToLive, the layer vertex to the first sheet's)
+  int splitVertices = 0;
   std::vector<std::string> notes;     ///< what was repaired, one line each (for the log)
   std::vector<std::string> warnings;  ///< what the user should know (precision)
 };
@@ -76,7 +80,7 @@ std::vector<double> AttributeOnWorkingCopy(const WorkingCopy& w, const MeshType&
 
 /// Re-indexes quads given on the layer's live vertices (a polygonal layer's quads) onto the
 /// working copy. False (quads unusable: use the working copy's triangles) if a corner has no
-/// working vertex, a quad repeats a vertex after merging, or faces were re-oriented.
+/// working vertex, a quad repeats a vertex after merging, faces were re-oriented or vertices split.
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads);
 
 /// Precision of the coordinates PrepareWorkingCopy reads from a layer. MeshLab 2020.09 stores a

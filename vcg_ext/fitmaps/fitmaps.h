@@ -144,10 +144,11 @@ inline const char* kFitmapSAttr = "FitmapS";
 inline const char* kFitmapMAttr = "FitmapM";
 
 /// vcg entry point: computes the Fitmaps on the layer's working copy (input_prep.h: polygonal
-/// layers as triangles, duplicates merged, re-oriented; non-manifold or non-orientable input is
-/// an error) and stores them in the per-vertex float attributes FitmapS / FitmapM (created if
-/// missing); vertices in no face get 0. On error the mesh is untouched and `result.error` says
-/// why. `result.S` / `result.M` are indexed like the working copy.
+/// layers as triangles, duplicates merged, re-oriented, non-manifold vertices split; non-manifold
+/// edges or non-orientable input are an error) and stores them in the per-vertex float
+/// attributes FitmapS / FitmapM (created if missing); vertices in no face get 0. On error the
+/// mesh is untouched and `result.error` says why. `result.S` / `result.M` are indexed like the
+/// working copy.
 template <class MeshType>
 FitmapResult ComputeFitmaps(MeshType& m, const FitmapParams& p, vcg::CallBackPos* cb = nullptr) {
   WorkingCopy w = PrepareWorkingCopy(m);

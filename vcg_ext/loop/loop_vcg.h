@@ -3,6 +3,8 @@
 /// vcg-mesh entry points of the Loop surrogate toolkit (for the MeshLab filters "Loop
 /// Surrogate: Refine Surface / Snap Points / Curvature"). Each validates the input layer (see
 /// ImportTriangles and LoopSurface), leaves it untouched on error and returns the error string.
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -40,14 +42,34 @@ bool LoopWorkingCopy(const MeshType& m, WorkingCopy& w, LoopVcgReport& rep) {
 }
 
 /// `sp` with its extra hard edges (given on the layer's live vertices) moved onto the working
-/// copy's vertices; edges at vertices the working copy left out are dropped.
+/// copy's vertices; edges at vertices the working copy left out are dropped. At a vertex the
+/// working copy split (WorkingCopy::splitVertices) the edge goes to the copy whose sheet has it.
 inline LoopSurfaceParams OnWorkingCopy(const LoopSurfaceParams& sp, const WorkingCopy& w) {
   LoopSurfaceParams p = sp;
   p.extraHardEdges.clear();
+  // the split's copies of each layer vertex, beyond the one liveToMesh names, and the mesh's edges
+  std::map<int, std::vector<int>> copies;
+  for (int m = 0; m < int(w.meshToLive.size()); ++m)
+    if (w.liveToMesh[size_t(w.meshToLive[size_t(m)])] != m) copies[w.meshToLive[size_t(m)]].push_back(m);
+  std::set<std::pair<int, int>> edges;
+  if (!copies.empty())
+    for (const Tri& f : w.mesh.F)
+      for (int k = 0; k < 3; ++k) edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  auto candidates = [&](int live) {
+    std::vector<int> c{w.liveToMesh[size_t(live)]};
+    const auto it = copies.find(live);
+    if (it != copies.end()) c.insert(c.end(), it->second.begin(), it->second.end());
+    return c;
+  };
   for (const auto& [a, b] : sp.extraHardEdges) {
     const int n = int(w.liveToMesh.size());
     if (a < 0 || b < 0 || a >= n || b >= n || w.liveToMesh[a] < 0 || w.liveToMesh[b] < 0) continue;
-    p.extraHardEdges.push_back({w.liveToMesh[a], w.liveToMesh[b]});
+    std::pair<int, int> e{w.liveToMesh[a], w.liveToMesh[b]};
+    if (copies.count(a) || copies.count(b))
+      for (int ca : candidates(a))
+        for (int cb : candidates(b))
+          if (edges.count(std::minmax(ca, cb))) e = {ca, cb};
+    p.extraHardEdges.push_back(e);
   }
   return p;
 }
