@@ -507,6 +507,33 @@ def corpus():
                            for k in range(5)])
     yield off("tinycomps.off", "components", "icosphere + 5 isolated tiny triangles", tiny)
 
+    # --- what raw scans come with (synthetic: no third-party meshes): valid results
+    scan = icosphere(4)  # 2562 vertices, 5120 triangles, radius 1
+    nv_ = [mul(v, 1 + rnd.gauss(0, 0.01)) for v in scan[0]]  # 1 % radial noise
+    yield off("scan_noisy.off", "scan", "icosphere(4) with 1 % radial noise on every vertex", (nv_, scan[1]))
+    sv_ = list(scan[0])
+    for i in rnd.sample(range(len(sv_)), 20):  # outlier vertices: spikes of 30 % of the radius
+        sv_[i] = mul(sv_[i], 1.3)
+    yield off("scan_spikes.off", "scan", "icosphere(4) with 20 vertices pushed out 30 % (spikes)", (sv_, scan[1]))
+    specks = [([add(c, (0, 0, 0)), add(c, (0.01, 0, 0)), add(c, (0.01, 0.01, 0.005)), add(c, (0, 0.01, 0))],
+               [(0, 1, 2), (0, 2, 3)])
+              for c in [(rnd.uniform(-1.4, 1.4), rnd.uniform(-1.4, 1.4), rnd.uniform(-1.4, 1.4)) for _ in range(100)]]
+    yield off("scan_debris.off", "scan", "icosphere(4) + 100 specks of 2 triangles around it (debris)",
+              merge(scan, *specks))
+    # 30 holes: the faces around 30 vertices far apart removed (occlusion holes)
+    centres = []
+    for i in rnd.sample(range(len(scan[0])), 400):
+        if all(dot(sub(scan[0][i], scan[0][j]), sub(scan[0][i], scan[0][j])) > 0.09 for j in centres):
+            centres.append(i)
+        if len(centres) == 30:
+            break
+    holed = [f for f in scan[1] if not any(c in f for c in centres)]
+    yield off("scan_holes.off", "scan", "icosphere(4) with 30 one-ring holes", (scan[0], holed))
+    yield off("scan_double.off", "scan", "two nested icospheres 0.2 % apart (a doubled wall of merged scans)",
+              merge(scan, icosphere(4, 1.002)))
+    yield off("scan_overlap.off", "scan", "two icospheres overlapping by half a radius (unmerged, they intersect)",
+              merge(scan, icosphere(4, 1.0, (1.5, 0, 0))))
+
     # --- precision: unit sphere at x = 1e7 (float has ~1 unit resolution there)
     yield off("far1e7.off", "far-from-origin", "unit icosphere centred at x = 1e7", icosphere(3, 1.0, (1e7, 0, 0)),
               exp=expect("error", ["shape is lost"]), prec=17)
