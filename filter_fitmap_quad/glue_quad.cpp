@@ -13,7 +13,7 @@
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fitmaps/fitmaps.h"
-#include "vcg_ext/quad/debris.h"
+#include "vcg_ext/quad/scan_artifacts.h"
 #include "vcg_ext/quad/quad_simplify.h"
 #include "vcg_ext/quad/working_start.h"
 
@@ -316,8 +316,9 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
                  const vcgext::TriData& tri, std::chrono::steady_clock::time_point t0) {
   LogQuadSummary(ctx, r, t0);
   LogBudgetRetries(ctx, r, p);
-  const std::string debris = vcgext::DebrisWarning(r.quads, vcgext::BBoxDiagonal(tri.V));
-  if (!debris.empty()) ctx.log("Warning: Fitmap Quad Simplification: " + debris);
+  for (const std::string& w : {vcgext::DebrisWarning(r.quads, vcgext::BBoxDiagonal(tri.V)),
+                               vcgext::HolesWarning(tri, r.quads)})
+    if (!w.empty()) ctx.log("Warning: Fitmap Quad Simplification: " + w);
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);
   ctx.Value("rescued_from_patches", r.rescuedFromPatches);

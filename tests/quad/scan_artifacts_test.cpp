@@ -1,0 +1,111 @@
+// Debris and small holes of a raw scan (vcg_ext/quad/scan_artifacts.h).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "vcg_ext/quad/scan_artifacts.h"
+#include "test_support.h"
+
+using vcgext::QuadData;
+using vcgext::Vec3;
+
+namespace {
+// A closed box of six quads, size s, corner at o.
+void AddBox(QuadData& q, const Vec3& o, double s) {
+  const int b = int(q.V.size());
+  for (int i = 0; i < 8; ++i) q.V.push_back(o + s * Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  const int f[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& c : f) q.F.push_back({b + c[0], b + c[1], b + c[2], b + c[3]});
+}
+}  // namespace
+
+// A unit box (diagonal 1.73) with k specks of size 0.01 around it: the specks are counted with
+// their patches by a brute count, and warned about only when they hold 2 % of the patches or more.
+TEST(ScanArtifacts, SmallPiecesAreCountedAndWarnedAboutWhenTheyCost) {
+  QuadData cage;
+  AddBox(cage, Vec3::Zero(), 1.0);
+  const double diag = std::sqrt(3.0);
+  EXPECT_EQ(vcgext::DebrisWarning(cage, diag), "");
+  const vcgext::SmallPieces none = vcgext::FindSmallPieces(cage, 0.02 * diag);
+  EXPECT_EQ(none.pieces, 1);
+  EXPECT_EQ(none.small, 0);
+  for (int k = 0; k < 20; ++k) AddBox(cage, Vec3(2 + 0.1 * k, 0, 0), 0.01);
+  const vcgext::SmallPieces s = vcgext::FindSmallPieces(cage, 0.02 * diag);
+  EXPECT_EQ(s.pieces, 21);
+  EXPECT_EQ(s.small, 20);
+  EXPECT_EQ(s.smallPatches, 120);
+  // measured against the input's diagonal given, not the cage's own
+  const std::string w = vcgext::DebrisWarning(cage, diag);
+  EXPECT_NE(w.find("20 of the input's 21 separate pieces"), std::string::npos) << w;
+  EXPECT_NE(w.find("120 of the cage's 126 patches"), std::string::npos) << w;
+  EXPECT_NE(w.find("Remove Isolated pieces (wrt Diameter)"), std::string::npos) << w;
+  // a box of side s has s of the unit box's diagonal: 0.019 is small, 0.021 is not
+  QuadData two;
+  AddBox(two, Vec3::Zero(), 1.0);
+  AddBox(two, Vec3(3, 0, 0), 0.019);
+  AddBox(two, Vec3(5, 0, 0), 0.021);
+  EXPECT_EQ(vcgext::FindSmallPieces(two, 0.02 * diag).small, 1);
+  // small pieces below 2 % of the patches: no warning
+  QuadData fine;
+  AddBox(fine, Vec3::Zero(), 1.0);
+  // repeated faces stand for a finer cage of the big piece: only the counts matter here
+  for (int k = 0; k < 60; ++k) fine.F.push_back(fine.F[size_t(k % 6)]);  // 66 patches in one piece
+  AddBox(fine, Vec3(2, 0, 0), 0.01);                                     // 6 of 72: 8 %
+  EXPECT_NE(vcgext::DebrisWarning(fine, diag), "");
+  for (int k = 0; k < 300; ++k) fine.F.push_back(fine.F[size_t(k % 6)]);  // 6 of 372: 1.6 %
+  EXPECT_EQ(vcgext::DebrisWarning(fine, diag), "");
+}
+
+namespace {
+// An icosphere of radius 1 (2 562 vertices, edges of about 0.075) with the one-rings of k
+// vertices at least 0.3 apart removed: k holes of about 0.15 across.
+vcgext::TriData SphereWithHoles(int k) {
+  vcgext::TriData s = testsupport::Icosphere(4);
+  std::vector<int> centres;
+  for (int v = 0; v < int(s.V.size()) && int(centres.size()) < k; v += 7) {
+    bool far = true;
+    for (int c : centres) far = far && (s.V[size_t(v)] - s.V[size_t(c)]).norm() > 0.3;
+    if (far) centres.push_back(v);
+  }
+  std::vector<vcgext::Tri> kept;
+  for (const auto& f : s.F)
+    if (std::none_of(centres.begin(), centres.end(), [&](int c) { return f[0] == c || f[1] == c || f[2] == c; }))
+      kept.push_back(f);
+  s.F = kept;
+  return s;
+}
+
+// An open n x n grid of unit quads.
+QuadData QuadGrid(int n) {
+  QuadData g;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) g.V.push_back(Vec3(i, j, 0));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) g.F.push_back({j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i});
+  return g;
+}
+}  // namespace
+
+// Holes counted by their boundary loops (the holes cut), small ones by the loop's size; the
+// warning from kManySmallHoles holes smaller than the cage's average patch on, with the patches of
+// the cage that border its boundary.
+TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
+  for (int k : {1, 9, 10, 30}) {
+    const vcgext::TriData s = SphereWithHoles(k);
+    EXPECT_EQ(vcgext::FindSmallHoles(s, 0.25).holes, k);
+    EXPECT_EQ(vcgext::FindSmallHoles(s, 0.25).small, k);
+    EXPECT_EQ(vcgext::FindSmallHoles(s, 0.1).small, 0) << "holes of about 0.15";
+  }
+  EXPECT_EQ(vcgext::FindSmallHoles(testsupport::Icosphere(2), 1.0).holes, 0);
+  // a 3 x 3 grid cage: 9 patches of side sqrt(4 pi / 9) = 1.2 (every hole smaller), 8 of them on
+  // its boundary
+  EXPECT_EQ(vcgext::HolesWarning(SphereWithHoles(9), QuadGrid(3)), "");
+  const std::string w = vcgext::HolesWarning(SphereWithHoles(10), QuadGrid(3));
+  EXPECT_NE(w.find("10 of the input's 10 holes are smaller than the cage's patches"), std::string::npos) << w;
+  EXPECT_NE(w.find("8 of whose 9 patches border one"), std::string::npos) << w;
+  EXPECT_NE(w.find("Close Holes"), std::string::npos) << w;
+  // 3 600 patches of side 0.06: the holes are larger than the patches, no warning
+  EXPECT_EQ(vcgext::HolesWarning(SphereWithHoles(30), QuadGrid(60)), "");
+}

@@ -1,0 +1,112 @@
+/// \file scan_artifacts.cpp
+/// Debris and small holes of a raw scan, and what they cost the cage (scan_artifacts.h).
+#include "vcg_ext/quad/scan_artifacts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+namespace vcgext {
+
+namespace {
+int Root(std::vector<int>& parent, int x) {
+  while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+  return x;
+}
+}  // namespace
+
+SmallPieces FindSmallPieces(const QuadData& cage, double maxDiag) {
+  const size_t nV = cage.V.size();
+  std::vector<int> parent(nV);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const Quad& q : cage.F)
+    for (int k = 1; k < 4; ++k) parent[size_t(Root(parent, q[k]))] = Root(parent, q[0]);
+  // per piece (by its root): bounding box and patches
+  std::vector<Vec3> lo(nV, Vec3::Constant(1e300)), hi(nV, Vec3::Constant(-1e300));
+  std::vector<long> patches(nV, 0);
+  for (const Quad& q : cage.F) {
+    const int r = Root(parent, q[0]);
+    ++patches[size_t(r)];
+    for (int v : q) {
+      lo[size_t(r)] = lo[size_t(r)].cwiseMin(cage.V[size_t(v)]);
+      hi[size_t(r)] = hi[size_t(r)].cwiseMax(cage.V[size_t(v)]);
+    }
+  }
+  SmallPieces s;
+  for (size_t r = 0; r < nV; ++r) {
+    if (patches[r] == 0) continue;
+    ++s.pieces;
+    if ((hi[r] - lo[r]).norm() < maxDiag) {
+      ++s.small;
+      s.smallPatches += patches[r];
+    }
+  }
+  return s;
+}
+
+std::string DebrisWarning(const QuadData& cage, double inputDiag) {
+  const SmallPieces s = FindSmallPieces(cage, kDebrisDiagPercent / 100.0 * inputDiag);
+  if (s.small == 0 || 100.0 * double(s.smallPatches) < kDebrisPatchSharePercent * double(cage.F.size())) return {};
+  char buf[600];
+  std::snprintf(buf, sizeof buf,
+                "%d of the input's %d separate pieces are smaller than %g %% of its diagonal (scan debris?) and hold "
+                "%ld of the cage's %zu patches: every piece keeps patches of its own, so a budget below that cannot "
+                "be met. Remove them first if they are debris: Filters > Cleaning and Repairing > Remove Isolated "
+                "pieces (wrt Diameter) with a diameter of %g %% (PyMeshLab: "
+                "meshing_remove_connected_component_by_diameter)",
+                s.small, s.pieces, kDebrisDiagPercent, s.smallPatches, cage.F.size(), kDebrisDiagPercent);
+  return buf;
+}
+
+SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
+  // follow each boundary half-edge (a, b) to the one leaving b (at a non-manifold boundary vertex
+  // any of them: the loops' count and sizes are what matters here)
+  const std::vector<std::pair<int, int>> half = BoundaryHalfEdges(m);
+  std::vector<int> next(m.V.size(), -1);
+  for (size_t i = 0; i < half.size(); ++i) next[size_t(half[i].first)] = int(i);
+  std::vector<char> used(half.size(), 0);
+  SmallHoles h;
+  for (size_t i = 0; i < half.size(); ++i) {
+    if (used[i]) continue;
+    Vec3 lo = m.V[size_t(half[i].first)], hi = lo;
+    for (int k = int(i); k >= 0 && !used[size_t(k)]; k = next[size_t(half[size_t(k)].second)]) {
+      used[size_t(k)] = 1;
+      lo = lo.cwiseMin(m.V[size_t(half[size_t(k)].second)]);
+      hi = hi.cwiseMax(m.V[size_t(half[size_t(k)].second)]);
+    }
+    ++h.holes;
+    h.small += (hi - lo).norm() < maxDiag;
+  }
+  return h;
+}
+
+std::string HolesWarning(const TriData& input, const QuadData& cage) {
+  if (cage.F.empty()) return {};
+  const double patchSide = std::sqrt(TotalArea(input) / double(cage.F.size()));
+  const SmallHoles h = FindSmallHoles(input, patchSide);
+  if (h.small < kManySmallHoles) return {};
+  // the cage's patches with a corner on its boundary
+  std::vector<std::pair<int, int>> edges;
+  for (const Quad& q : cage.F)
+    for (int k = 0; k < 4; ++k) edges.emplace_back(std::min(q[k], q[(k + 1) % 4]), std::max(q[k], q[(k + 1) % 4]));
+  std::sort(edges.begin(), edges.end());
+  std::vector<char> onBoundary(cage.V.size(), 0);
+  for (size_t i = 0; i < edges.size(); ++i)
+    if ((i == 0 || edges[i] != edges[i - 1]) && (i + 1 == edges.size() || edges[i] != edges[i + 1]))
+      onBoundary[size_t(edges[i].first)] = onBoundary[size_t(edges[i].second)] = 1;
+  long bordering = 0;
+  for (const Quad& q : cage.F) bordering += onBoundary[size_t(q[0])] || onBoundary[size_t(q[1])] ||
+                                            onBoundary[size_t(q[2])] || onBoundary[size_t(q[3])];
+  char buf[600];
+  std::snprintf(buf, sizeof buf,
+                "%d of the input's %d holes are smaller than the cage's patches (%.3g %% of the diagonal, the side "
+                "of an average patch): each stays a hole of the cage, %ld of whose %zu patches border one, and the "
+                "limit opens wider than such a hole, so the area around it may be left unreached. If they are gaps "
+                "in a scan, close them first: Filters > Remeshing, Simplification and Reconstruction > Close Holes "
+                "(PyMeshLab: meshing_close_holes)",
+                h.small, h.holes, 100 * patchSide / BBoxDiagonal(input.V), bordering, cage.F.size());
+  return buf;
+}
+
+}  // namespace vcgext

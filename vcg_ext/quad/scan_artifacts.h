@@ -1,0 +1,57 @@
+#pragma once
+/// \file scan_artifacts.h
+/// What a raw scan brings that the cage must keep, and the warnings that say what it costs:
+/// - debris, small separate pieces (floating specks a scanner or a reconstruction left around the
+///   object): every connected piece keeps at least one patch of its own and no collapse merges
+///   pieces, so 300 specks around a bunny take 300 of its patches and a budget below that cannot
+///   be met;
+/// - many small holes: every hole stays a hole of the cage, bordered by patches that cannot grow
+///   past it, and a coarse cage's boundary around a one-ring hole opens its limit far wider than
+///   the hole (a sphere with 30 such holes at tau = 1 %: 3.3 % of it unreached).
+/// The filters keep the input as it is (dropping or filling geometry is the user's decision) and
+/// name MeshLab's filters that clean it.
+#include <string>
+
+#include "vcg_ext/core/indexed_mesh.h"
+
+namespace vcgext {
+
+/// A piece counts as small below this share of the input's bounding-box diagonal (its own bbox
+/// diagonal, what MeshLab's Remove Isolated pieces (wrt Diameter) measures).
+inline constexpr double kDebrisDiagPercent = 2.0;
+/// ... and the warning is given when the small pieces hold at least this share of the patches.
+inline constexpr double kDebrisPatchSharePercent = 2.0;
+
+/// Connected pieces of a cage (quads joined through shared vertices) and those whose bounding-box
+/// diagonal is below `maxDiag`, with their patches.
+struct SmallPieces {
+  int pieces = 0;
+  int small = 0;
+  long smallPatches = 0;
+};
+SmallPieces FindSmallPieces(const QuadData& cage, double maxDiag);
+
+/// The warning for a cage whose small pieces (kDebrisDiagPercent of `inputDiag`) hold at least
+/// kDebrisPatchSharePercent of its patches; empty otherwise. It gives the counts and names the
+/// filter that removes such pieces (MeshLab and PyMeshLab) with the diameter to give it.
+std::string DebrisWarning(const QuadData& cage, double inputDiag);
+
+/// The warning is given from this many holes smaller than the cage's patches on (a CAD part's
+/// few bolt holes are not scan damage).
+inline constexpr int kManySmallHoles = 10;
+
+/// Boundary loops (holes) of an oriented manifold triangle mesh and those whose bounding-box
+/// diagonal is below `maxDiag`.
+struct SmallHoles {
+  int holes = 0;
+  int small = 0;
+};
+SmallHoles FindSmallHoles(const TriData& m, double maxDiag);
+
+/// The warning for an input with kManySmallHoles holes or more smaller than the cage's patches
+/// (a loop's bbox diagonal below sqrt(input area / patches), the side of an average patch: a
+/// patch cannot bend round a smaller hole), with the cage's patches that border a hole; empty
+/// otherwise. It names the filter that closes holes (MeshLab and PyMeshLab).
+std::string HolesWarning(const TriData& input, const QuadData& cage);
+
+}  // namespace vcgext
