@@ -890,6 +890,48 @@ void AppendMessage(std::string& message, const std::string& note) {
   message += (message.empty() ? "" : "; ") + note;
 }
 
+namespace {
+// Step 1 of SimplifyOnce (§3.2): the initial quads, given (a pure-quad layer) or paired from the
+// start's triangles. False (res.error set) when they cannot be had.
+bool InitialQuads(const TriData& input, const TriData& start, const QuadSimplifyParams& params,
+                  const std::vector<Quad>* initialQuads, QuadData& q0, QuadSimplifyResult& res) {
+  const int nv = int(input.V.size());
+  if (initialQuads && !initialQuads->empty()) {
+    q0.V = input.V;
+    q0.F = *initialQuads;
+    for (const Quad& q : q0.F)
+      for (int x : q)
+        if (x < 0 || x >= nv) { res.error = "initial quad references vertex " + std::to_string(x) + " out of range"; return false; }
+    res.triToQuadPath = quad::TriToQuadPath::AlreadyQuads;
+    return true;
+  }
+  quad::TriToQuadResult tq = quad::TriToQuad(start, params.triToQuad);
+  if (!tq.error.empty()) { res.error = "tri-to-quad: " + tq.error; return false; }
+  q0 = std::move(tq.quads);
+  res.triToQuadPath = tq.path;
+  return true;
+}
+
+// The final checks of SimplifyOnce: flipped patches fixed and counted, and the final
+// re-interpolation, kept only if it does not add normal disagreements (it moves every control point).
+void FinalChecks(const QuadSimplifyParams& params, Simplifier& sim, QuadSimplifyResult& res) {
+  if (res.collapses > 0) sim.FixFlips();
+  res.flippedPatches = sim.CountFlipped();
+  res.flippedVertices = sim.CountFlippedVertices();
+  if (!params.finalReinterpolation || res.collapses == 0) return;
+  std::vector<Vec3> before = sim.K.P;
+  sim.Reinterpolate();
+  int fp = sim.CountFlipped(), fv = sim.CountFlippedVertices();
+  if (fp + fv > res.flippedPatches + res.flippedVertices) {
+    sim.K.P = before;
+    AppendMessage(res.message, "final re-interpolation skipped (it would flip patches)");
+  } else {
+    res.flippedPatches = fp;
+    res.flippedVertices = fv;
+  }
+}
+}  // namespace
+
 QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress prog, const std::vector<Quad>* initialQuads,
@@ -897,23 +939,10 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
                                 quad::LayoutGate* publishTo) {
   QuadSimplifyResult res;
   const auto t0 = Clock::now();
-  const int nv = int(input.V.size());
   prog(0, "Tri-to-quad", true);
   // 1. initial quads (§3.2)
   QuadData q0;
-  if (initialQuads && !initialQuads->empty()) {
-    q0.V = input.V;
-    q0.F = *initialQuads;
-    for (const Quad& q : q0.F)
-      for (int x : q)
-        if (x < 0 || x >= nv) { res.error = "initial quad references vertex " + std::to_string(x) + " out of range"; return res; }
-    res.triToQuadPath = quad::TriToQuadPath::AlreadyQuads;
-  } else {
-    quad::TriToQuadResult tq = quad::TriToQuad(start, params.triToQuad);
-    if (!tq.error.empty()) { res.error = "tri-to-quad: " + tq.error; return res; }
-    q0 = std::move(tq.quads);
-    res.triToQuadPath = tq.path;
-  }
+  if (!InitialQuads(input, start, params, initialQuads, q0, res)) return res;
   res.secondsTriToQuad = Since(t0);
   // 2. interpolating control points (§3.2)
   auto t1 = Clock::now();
@@ -949,22 +978,7 @@ QuadSimplifyResult SimplifyOnce(const TriData& input, const TriData& start, cons
     if (res.collapses == 0) res.message = "no feasible collapse: returning the initial pure-quad mesh";
   }
   prog(96, "Quad simplification: final checks", true);
-  if (res.collapses > 0) sim.FixFlips();
-  res.flippedPatches = sim.CountFlipped();
-  res.flippedVertices = sim.CountFlippedVertices();
-  if (params.finalReinterpolation && res.collapses > 0) {
-    // kept only if it does not add normal disagreements (it moves every control point)
-    std::vector<Vec3> before = sim.K.P;
-    sim.Reinterpolate();
-    int fp = sim.CountFlipped(), fv = sim.CountFlippedVertices();
-    if (fp + fv > res.flippedPatches + res.flippedVertices) {
-      sim.K.P = before;
-      AppendMessage(res.message, "final re-interpolation skipped (it would flip patches)");
-    } else {
-      res.flippedPatches = fp;
-      res.flippedVertices = fv;
-    }
-  }
+  FinalChecks(params, sim, res);
   res.secondsSimplify = Since(t2);
   res.quads = sim.K.ToQuadData();
   res.patches = sim.K.NumFaces();
