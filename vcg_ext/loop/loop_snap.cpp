@@ -57,6 +57,54 @@ double Backtrack(const Local& L, int f, double v, double w, double dv, double dw
   return t;
 }
 
+/// The Newton step (dv, dw) in face coordinates for the residual r at evaluation e (gradient g0,
+/// g1), Gauss-Newton where the Hessian is not a local minimum model, clamped to a trust region;
+/// false when even Gauss-Newton is singular.
+bool NewtonStep(const LoopEval& e, const Vec3& r, double g0, double g1, double& dv, double& dw) {
+  double H00 = e.Dv.dot(e.Dv) + e.Dvv.dot(r), H01 = e.Dv.dot(e.Dw) + e.Dvw.dot(r), H11 = e.Dw.dot(e.Dw) + e.Dww.dot(r);
+  double det = H00 * H11 - H01 * H01;
+  if (!(det > 0 && H00 > 0)) {  // not a local minimum model: Gauss-Newton
+    H00 = e.Dv.dot(e.Dv); H01 = e.Dv.dot(e.Dw); H11 = e.Dw.dot(e.Dw);
+    det = H00 * H11 - H01 * H01;
+    if (!(det > 0)) return false;
+  }
+  dv = -(H11 * g0 - H01 * g1) / det;
+  dw = -(-H01 * g0 + H00 * g1) / det;
+  // Trust region in the face's barycentric chart: far from the optimum the quadratic model is
+  // poor (a full step from the centroid overshot by 2-3x near curved corners) and a long step
+  // decides the face crossing on it; at most a quarter of the face per iteration.
+  const double len = std::max(std::abs(dv), std::abs(dw));
+  if (len > 0.25) { dv *= 0.25 / len; dw *= 0.25 / len; }
+  return true;
+}
+
+/// Where the step (dv, dw) from (v, w) leaves the face: the barycentric that reaches 0 first
+/// (its index, -1 if none) and the step's fraction `frac` in [0, 1] at which it does.
+int FirstBarycentricToZero(double v, double w, double dv, double dw, double& frac) {
+  const double nv = v + dv, nw = w + dw;
+  double b0[3] = {1 - v - w, v, w}, b1[3] = {1 - nv - nw, nv, nw};
+  int imin = -1;
+  frac = 1.0;
+  for (int i = 0; i < 3; ++i)
+    if (b1[i] < 0) {
+      double fi = b0[i] / (b0[i] - b1[i]);
+      if (imin < 0 || fi < frac) { frac = fi; imin = i; }
+    }
+  frac = std::clamp(frac, 0.0, 1.0);
+  return imin;
+}
+
+/// (v, w) put exactly on the face's side where barycentric `imin` is 0 (the others clamped to 0
+/// and renormalised).
+void OntoSide(int imin, double& v, double& w) {
+  double bb[3] = {1 - v - w, v, w};
+  bb[imin] = 0;
+  for (int i = 0; i < 3; ++i) bb[i] = std::max(0.0, bb[i]);
+  double sum = bb[0] + bb[1] + bb[2];
+  v = bb[1] / sum;
+  w = bb[2] / sum;
+}
+
 /// Newton inside one face with boundary exit; returns 0 converged, 1 moved to neighbour via
 /// edge `edge`, 2 stuck on a mesh boundary / stalled.
 int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt) {
@@ -66,21 +114,8 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
     Vec3 r = e.P - L.p;
     double g0 = e.Dv.dot(r), g1 = e.Dw.dot(r);
     if (Stationary(L, e, r)) return 0;
-    double H00 = e.Dv.dot(e.Dv) + e.Dvv.dot(r), H01 = e.Dv.dot(e.Dw) + e.Dvw.dot(r), H11 = e.Dw.dot(e.Dw) + e.Dww.dot(r);
-    double det = H00 * H11 - H01 * H01;
-    if (!(det > 0 && H00 > 0)) {  // not a local minimum model: Gauss-Newton
-      H00 = e.Dv.dot(e.Dv); H01 = e.Dv.dot(e.Dw); H11 = e.Dw.dot(e.Dw);
-      det = H00 * H11 - H01 * H01;
-      if (!(det > 0)) return 2;
-    }
-    double dv = -(H11 * g0 - H01 * g1) / det, dw = -(-H01 * g0 + H00 * g1) / det;
-    // Trust region in the face's barycentric chart: far from the optimum the quadratic model is
-    // poor (a full step from the centroid overshot by 2-3x near curved corners) and a long step
-    // decides the face crossing on it; at most a quarter of the face per iteration.
-    {
-      const double len = std::max(std::abs(dv), std::abs(dw));
-      if (len > 0.25) { dv *= 0.25 / len; dw *= 0.25 / len; }
-    }
+    double dv, dw;
+    if (!NewtonStep(e, r, g0, g1, dv, dw)) return 2;
     // A step shorter (in 3-D) than the tolerance: converged to round-off. This is what used to
     // stall: near the optimum the decrease of |r|^2 (~ tangential^2) is far below the round-off
     // of |r|^2 (~ |r| * eps * coordinates) when p is off the surface, so backtracking on |r|^2
@@ -101,15 +136,8 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
       continue;
     }
     // Leaving the face. The barycentric that reaches 0 first along the step decides the edge.
-    double b0[3] = {1 - v - w, v, w}, b1[3] = {1 - nv - nw, nv, nw};
-    int imin = -1;
-    double frac = 1.0;
-    for (int i = 0; i < 3; ++i)
-      if (b1[i] < 0) {
-        double fi = b0[i] / (b0[i] - b1[i]);
-        if (imin < 0 || fi < frac) { frac = fi; imin = i; }
-      }
-    frac = std::clamp(frac, 0.0, 1.0);
+    double frac;
+    const int imin = FirstBarycentricToZero(v, w, dv, dw, frac);
     // Cross only if |x - p|^2 still decreases along the step at the boundary: a Newton step far
     // from the optimum can overshoot an optimum that lies inside this face (near a corner, where
     // the face's (v, w) chart is strongly curved); then take a shorter step inside instead.
@@ -128,12 +156,7 @@ int NewtonInFace(Local& L, int f, double& v, double& w, int& exitEdge, int maxIt
     }
     v += frac * dv;
     w += frac * dw;
-    double bb[3] = {1 - v - w, v, w};
-    bb[imin] = 0;
-    for (int i = 0; i < 3; ++i) bb[i] = std::max(0.0, bb[i]);
-    double sum = bb[0] + bb[1] + bb[2];
-    v = bb[1] / sum;
-    w = bb[2] / sum;
+    OntoSide(imin, v, w);
     exitEdge = (imin + 1) % 3;
     return 1;
   }
