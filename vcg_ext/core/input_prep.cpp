@@ -347,6 +347,39 @@ WorkingCopy PrepareUncached(const TriData& raw) {
 }  // namespace
 
 namespace {
+// The error for non-manifold edges (three or more triangles on one), naming the non-manifold
+// vertices too when there are some (only the kinds present: "0 vertices join ..." reads like a
+// contradiction).
+std::string NonManifoldError(const WorkingCopy& w) {
+  std::string what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
+  if (w.nonManifoldVertices)
+    what += " and " + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") + " separate pieces of surface";
+  return "the mesh is non-manifold: " + what + "; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
+         "Edges" + std::string(w.nonManifoldVertices ? " and Repair non Manifold Vertices" : "") +
+         ", then run this filter again";
+}
+
+// One log line per repair the working copy made.
+void AddRepairNotes(WorkingCopy& w) {
+  if (w.mergedVertices)
+    w.notes.push_back("merged " + Plural(w.mergedVertices, "duplicate vertex", "duplicate vertices") +
+                      " (same coordinates: an unwelded mesh or STL soup)");
+  if (w.degenerateFaces)
+    w.notes.push_back("ignored " + Plural(w.degenerateFaces, "degenerate face", "degenerate faces") +
+                      " (a repeated vertex)");
+  if (w.duplicateFaces) w.notes.push_back("ignored " + Plural(w.duplicateFaces, "repeated face", "repeated faces"));
+  if (w.unreferencedVertices)
+    w.notes.push_back("ignored " + Plural(w.unreferencedVertices, "unreferenced vertex", "unreferenced vertices") +
+                      " (in no face)");
+  if (w.splitVertices)
+    w.notes.push_back("split " + Plural(w.splitVertices, "vertex", "vertices") +
+                      " where separate pieces of surface touch (one copy per piece, as Filters > Cleaning and "
+                      "Repairing > Repair non Manifold Vertices does; the layer's vertex shows the first piece's value)");
+  if (w.flippedFaces)
+    w.notes.push_back("re-oriented " + Plural(w.flippedFaces, "face", "faces") +
+                      " so that every component is consistently oriented");
+}
+
 WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   WorkingCopy w;
   const int n = int(raw.V.size());
@@ -370,13 +403,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   std::vector<int> copyOf;  // per vertex made by the split (indices n, n + 1, ...): its original
   w.nonManifoldVertices = NonManifoldVertices(F, e, n, w.nonManifoldEdges ? nullptr : &copyOf);
   if (w.nonManifoldEdges) {
-    std::string what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
-    // only the kinds present: "0 vertices join ..." reads like a contradiction
-    if (w.nonManifoldVertices)
-      what += " and " + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") + " separate pieces of surface";
-    w.error = "the mesh is non-manifold: " + what + "; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
-              "Edges" + std::string(w.nonManifoldVertices ? " and Repair non Manifold Vertices" : "") +
-              ", then run this filter again";
+    w.error = NonManifoldError(w);
     return w;
   }
   w.splitVertices = w.nonManifoldVertices;
@@ -407,23 +434,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
     w.liveToMesh[v] = newIndex[rep[v]];
     w.unreferencedVertices += w.liveToMesh[v] < 0;
   }
-  if (w.mergedVertices)
-    w.notes.push_back("merged " + Plural(w.mergedVertices, "duplicate vertex", "duplicate vertices") +
-                      " (same coordinates: an unwelded mesh or STL soup)");
-  if (w.degenerateFaces)
-    w.notes.push_back("ignored " + Plural(w.degenerateFaces, "degenerate face", "degenerate faces") +
-                      " (a repeated vertex)");
-  if (w.duplicateFaces) w.notes.push_back("ignored " + Plural(w.duplicateFaces, "repeated face", "repeated faces"));
-  if (w.unreferencedVertices)
-    w.notes.push_back("ignored " + Plural(w.unreferencedVertices, "unreferenced vertex", "unreferenced vertices") +
-                      " (in no face)");
-  if (w.splitVertices)
-    w.notes.push_back("split " + Plural(w.splitVertices, "vertex", "vertices") +
-                      " where separate pieces of surface touch (one copy per piece, as Filters > Cleaning and "
-                      "Repairing > Repair non Manifold Vertices does; the layer's vertex shows the first piece's value)");
-  if (w.flippedFaces)
-    w.notes.push_back("re-oriented " + Plural(w.flippedFaces, "face", "faces") +
-                      " so that every component is consistently oriented");
+  AddRepairNotes(w);
   return w;
 }
 }  // namespace
