@@ -322,6 +322,7 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);
   ctx.Value("rescued_from_patches", r.rescuedFromPatches);
+  ctx.Value("fitted_coverage_relayouts", r.fittedCoverageRelayouts);
   ctx.Value("patches", r.patches);
   ctx.Value("irregular_vertices", r.irregularVertices);
   ctx.Value("sweep_chains", r.sweepSwaps);
@@ -409,6 +410,7 @@ bool ApplyQuad(GlueContext& ctx) {
   if (r.secondsBudgetRetries > 0) times.push_back({"budget_retries", r.secondsBudgetRetries});
   if (r.secondsStartRetries > 0) times.push_back({"start_refinement", r.secondsStartRetries});
   if (r.secondsRescue > 0) times.push_back({"rescue_by_budget", r.secondsRescue});
+  if (r.secondsFittedCoverage > 0) times.push_back({"fitted_coverage", r.secondsFittedCoverage});
   SetStageTimes(out->cm, times);
   StageMemory memory = have ? GetStageMemory(in.cm) : StageMemory{};
   memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -83,6 +84,22 @@ vcgext::TriData Icosphere(int level, double r) {
   }
   for (auto& p : m.V) p *= r;
   return m;
+}
+
+vcgext::TriData SphereWithHoles(int k) {
+  vcgext::TriData s = Icosphere(4);
+  std::vector<int> centres;
+  for (int v = 0; v < int(s.V.size()) && int(centres.size()) < k; v += 7) {
+    bool far = true;
+    for (int c : centres) far = far && (s.V[size_t(v)] - s.V[size_t(c)]).norm() > 0.3;
+    if (far) centres.push_back(v);
+  }
+  std::vector<vcgext::Tri> kept;
+  for (const auto& f : s.F)
+    if (std::none_of(centres.begin(), centres.end(), [&](int c) { return f[0] == c || f[1] == c || f[2] == c; }))
+      kept.push_back(f);
+  s.F = kept;
+  return s;
 }
 
 void ToVcg(const vcgext::TriData& d, vcgext::TMesh& m) {

@@ -31,6 +31,9 @@ vcgext::TriData HeightField(int nx, int ny, double size, F f) {
 vcgext::TriData GridWithZeroAreaFaces(int n, bool coincident = false);
 /// Icosphere of radius r with `level` 1:4 subdivisions (20·4^level triangles).
 vcgext::TriData Icosphere(int level, double r = 1.0);
+/// Icosphere(4) (2 562 vertices, edges of about 0.075) with the one-rings of k vertices at least
+/// 0.3 apart removed: k holes of about 0.15 across (the corpus's scan_holes.off has 30).
+vcgext::TriData SphereWithHoles(int k);
 /// UV sphere: n longitudes, m latitude bands, one vertex per pole (valence n), outward faces.
 vcgext::TriData UvSphere(int n, int m);
 /// A face's corner cycle rotated so that its smallest index comes first (orientation kept): equal

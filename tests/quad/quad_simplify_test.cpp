@@ -480,7 +480,8 @@ struct Rotor {
 
 // p (startRmsPermille > 0) run without the start refinement (r0) and with it (r1): r1 was refined
 // from r0's cage and is a valid quad mesh. Returns r0's and r1's fitted RMS.
-std::pair<double, double> ExpectRefinedFrom(const Rotor& rotor, const vcgext::QuadSimplifyParams& p, const char* what) {
+std::pair<double, double> ExpectRefinedFrom(const Rotor& rotor, vcgext::QuadSimplifyParams p, const char* what) {
+  p.coverageFittedPct = 0;  // the start refinement alone (the fitted-coverage guard rescues rotor's r0 too)
   auto off = p;
   off.startRmsPermille = 0;
   const auto r0 = rotor.Run(off), r1 = rotor.Run(p);

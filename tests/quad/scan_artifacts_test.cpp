@@ -59,24 +59,6 @@ TEST(ScanArtifacts, SmallPiecesAreCountedAndWarnedAboutWhenTheyCost) {
 }
 
 namespace {
-// An icosphere of radius 1 (2 562 vertices, edges of about 0.075) with the one-rings of k
-// vertices at least 0.3 apart removed: k holes of about 0.15 across.
-vcgext::TriData SphereWithHoles(int k) {
-  vcgext::TriData s = testsupport::Icosphere(4);
-  std::vector<int> centres;
-  for (int v = 0; v < int(s.V.size()) && int(centres.size()) < k; v += 7) {
-    bool far = true;
-    for (int c : centres) far = far && (s.V[size_t(v)] - s.V[size_t(c)]).norm() > 0.3;
-    if (far) centres.push_back(v);
-  }
-  std::vector<vcgext::Tri> kept;
-  for (const auto& f : s.F)
-    if (std::none_of(centres.begin(), centres.end(), [&](int c) { return f[0] == c || f[1] == c || f[2] == c; }))
-      kept.push_back(f);
-  s.F = kept;
-  return s;
-}
-
 // An open n x n grid of unit quads.
 QuadData QuadGrid(int n) {
   QuadData g;
@@ -93,7 +75,7 @@ QuadData QuadGrid(int n) {
 // the cage that border its boundary.
 TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
   for (int k : {1, 9, 10, 30}) {
-    const vcgext::TriData s = SphereWithHoles(k);
+    const vcgext::TriData s = testsupport::SphereWithHoles(k);
     EXPECT_EQ(vcgext::FindSmallHoles(s, 0.25).holes, k);
     EXPECT_EQ(vcgext::FindSmallHoles(s, 0.25).small, k);
     EXPECT_EQ(vcgext::FindSmallHoles(s, 0.1).small, 0) << "holes of about 0.15";
@@ -101,11 +83,11 @@ TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
   EXPECT_EQ(vcgext::FindSmallHoles(testsupport::Icosphere(2), 1.0).holes, 0);
   // a 3 x 3 grid cage: 9 patches of side sqrt(4 pi / 9) = 1.2 (every hole smaller), 8 of them on
   // its boundary
-  EXPECT_EQ(vcgext::HolesWarning(SphereWithHoles(9), QuadGrid(3)), "");
-  const std::string w = vcgext::HolesWarning(SphereWithHoles(10), QuadGrid(3));
+  EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(9), QuadGrid(3)), "");
+  const std::string w = vcgext::HolesWarning(testsupport::SphereWithHoles(10), QuadGrid(3));
   EXPECT_NE(w.find("10 of the input's 10 holes are smaller than the cage's patches"), std::string::npos) << w;
   EXPECT_NE(w.find("8 of whose 9 patches border one"), std::string::npos) << w;
   EXPECT_NE(w.find("Close Holes"), std::string::npos) << w;
   // 3 600 patches of side 0.06: the holes are larger than the patches, no warning
-  EXPECT_EQ(vcgext::HolesWarning(SphereWithHoles(30), QuadGrid(60)), "");
+  EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(30), QuadGrid(60)), "");
 }

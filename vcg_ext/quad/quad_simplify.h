@@ -122,6 +122,15 @@ struct QuadSimplifyParams {
   /// out again under a budget of its own patch count, and that cage kept when, fitted, it is
   /// closer (SimplifyToQuads; docs/quad.md "A cage far off"). The filter sets 10 tau; 0 = off.
   double rescueRmsPermille = 10;
+  /// Equalized, no budget, after the rescue: a cage whose interpolating limit stays farther than
+  /// rescueRmsPermille from the input (the trigger that spares the fit on most meshes) and whose
+  /// fitted limit, measured as the report will, leaves more than this share (%) of the input's
+  /// area unreached by projection is laid out again under budgets of 2, 4 and 8 times its patches
+  /// while the share stays above; a relayout is kept when it leaves less unreached than the best
+  /// so far and its fitted limit is no farther (RMS). The report warns above 1 %, the default: a sphere with 30
+  /// small holes, 3.3 % unreached at the paper's 119 patches (docs/quad.md "Unreached after the
+  /// fit"). 0 = off.
+  double coverageFittedPct = 1.0;
   /// Equalized: the count pass starts from the start mesh decimated to this many triangles
   /// (larger start meshes only; the count moves by ~2 % between 10k and 40k on bunny00).
   int countFaces = 10000;
@@ -237,6 +246,14 @@ struct QuadSimplifyResult {
   int rescuedFromPatches = 0;
   double rescuedFromRms = 0;
   double secondsRescue = 0;
+  /// coverageFittedPct: the budgeted relayouts kept (0: none), the patches and fitted unreached
+  /// share (%) of the cage they replaced, the kept cage's share (-1: not measured), and the
+  /// seconds of the check and its passes (in secondsTotal).
+  int fittedCoverageRelayouts = 0;
+  int fittedCoverageFromPatches = 0;
+  double fittedCoverageFromPct = 0;
+  double fittedUnprojectablePct = -1;
+  double secondsFittedCoverage = 0;
   /// Budget (targetPatches) the thin-part guard stopped above (the ladder, docs/quad.md "Budget
   /// ladder"): which retry the kept cage is — 1: the guard's tolerance doubled; 2: a start
   /// decimated to 4 x the budget in triangles (budgetStartFaces); 3: that start, the tolerance

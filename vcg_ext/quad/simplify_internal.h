@@ -108,6 +108,15 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
                                   const std::vector<double>& M, const QuadSimplifyParams& params,
                                   vcg::CallBackPos* cb, const TriData* start, QuadSimplifyResult r);
 
+/// After RescueByBudget (QuadSimplifyParams::coverageFittedPct): a cage `r` whose interpolating
+/// limit stays farther than params.rescueRmsPermille from the input and whose fitted limit
+/// (MeasureAsReported) leaves more than coverageFittedPct of the input unreached is laid out again
+/// from `start` under budgets of 2, 4 and 8 times its patches while that stays so; each relayout
+/// kept when it leaves less unreached than the best so far and fits no farther.
+QuadSimplifyResult CoverFittedArea(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
+                                   const std::vector<double>& M, const QuadSimplifyParams& params,
+                                   vcg::CallBackPos* cb, const TriData* start, QuadSimplifyResult r);
+
 /// The coverage guard (QuadSimplifyParams::coverageRmsPermille, coverageUnprojectablePct): a
 /// cage `r` (simplified from `start`) whose interpolating limit leaves the input, or leaves part
 /// of it unreached by projection, is laid out again with twice the patches.

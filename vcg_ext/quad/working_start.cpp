@@ -29,6 +29,7 @@ QuadSimplifyParams FirstStartPass(QuadSimplifyParams p) {
   p.coverageUnprojectablePct = 0;
   p.startRmsPermille = 0;
   p.rescueRmsPermille = 0;
+  p.coverageFittedPct = 0;
   return p;
 }
 
