@@ -90,4 +90,8 @@ TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
   EXPECT_NE(w.find("Close Holes"), std::string::npos) << w;
   // 3 600 patches of side 0.06: the holes are larger than the patches, no warning
   EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(30), QuadGrid(60)), "");
+  // a closed cage has no hole to border: no warning, whatever the input
+  QuadData box;
+  AddBox(box, Vec3::Zero(), 1.0);
+  EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(30), box), "");
 }

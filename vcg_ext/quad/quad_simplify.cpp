@@ -138,6 +138,17 @@ QuadSimplifyResult SimplifyFromStart(const TriData& input, const EmbreeScene& sc
 
 namespace simplify_internal {
 
+namespace {
+// What the replaced cage `from` records of the retries before (the start refinement) and its
+// log, carried onto the cage `to` that replaces it.
+void CarryStartRetries(const QuadSimplifyResult& from, QuadSimplifyResult& to) {
+  to.startRefinements = from.startRefinements;
+  to.startRefinedFrom = from.startRefinedFrom;
+  to.secondsStartRetries = from.secondsStartRetries;
+  to.message = from.message;
+}
+}  // namespace
+
 // A cage still far off after the coverage guard and the start refinement (docs/quad.md "A cage
 // far off"): its fitted limit stays farther than rescueRmsPermille from the input. The same count
 // is laid out again under a budget (the budget ladder's guards; no M-fitmap test) and that cage
@@ -174,10 +185,7 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
   if (keep) {
     g.rescuedFromPatches = r.patches;
     g.rescuedFromRms = rFitted;
-    g.startRefinements = r.startRefinements;
-    g.startRefinedFrom = r.startRefinedFrom;
-    g.secondsStartRetries = r.secondsStartRetries;
-    g.message = r.message;
+    CarryStartRetries(r, g);
     std::swap(r, g);
   }
   r.secondsRescue = Since(t0);  // the check and the budget's pass
@@ -214,11 +222,8 @@ QuadSimplifyResult CoverFittedArea(const TriData& input, const EmbreeScene& scen
     if (!(mg.unprojectablePct < m.unprojectablePct && mg.rms <= m.rms)) continue;
     g.rescuedFromPatches = r.rescuedFromPatches;
     g.rescuedFromRms = r.rescuedFromRms;
-    g.startRefinements = r.startRefinements;
-    g.startRefinedFrom = r.startRefinedFrom;
-    g.secondsStartRetries = r.secondsStartRetries;
     g.secondsRescue = r.secondsRescue;
-    g.message = r.message;
+    CarryStartRetries(r, g);
     r = std::move(g);
     m = mg;
     ++relayouts;

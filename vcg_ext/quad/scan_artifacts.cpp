@@ -82,11 +82,8 @@ SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
 }
 
 std::string HolesWarning(const TriData& input, const QuadData& cage) {
-  if (cage.F.empty()) return {};
-  const double patchSide = std::sqrt(TotalArea(input) / double(cage.F.size()));
-  const SmallHoles h = FindSmallHoles(input, patchSide);
-  if (h.small < kManySmallHoles) return {};
-  // the cage's patches with a corner on its boundary
+  // the cage's patches with a corner on its boundary (none: the input has no hole, and its own
+  // boundary is not searched, a pass over every triangle of a dense scan)
   std::vector<std::pair<int, int>> edges;
   for (const Quad& q : cage.F)
     for (int k = 0; k < 4; ++k) edges.emplace_back(std::min(q[k], q[(k + 1) % 4]), std::max(q[k], q[(k + 1) % 4]));
@@ -98,6 +95,10 @@ std::string HolesWarning(const TriData& input, const QuadData& cage) {
   long bordering = 0;
   for (const Quad& q : cage.F) bordering += onBoundary[size_t(q[0])] || onBoundary[size_t(q[1])] ||
                                             onBoundary[size_t(q[2])] || onBoundary[size_t(q[3])];
+  if (bordering == 0) return {};
+  const double patchSide = std::sqrt(TotalArea(input) / double(cage.F.size()));
+  const SmallHoles h = FindSmallHoles(input, patchSide);
+  if (h.small < kManySmallHoles) return {};
   char buf[600];
   std::snprintf(buf, sizeof buf,
                 "%d of the input's %d holes are smaller than the cage's patches (%.3g %% of the diagonal, the side "
