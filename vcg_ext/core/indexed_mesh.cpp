@@ -105,6 +105,17 @@ std::vector<std::pair<int, int>> BoundaryHalfEdges(const TriData& m) {
   return out;
 }
 
+TriData SplitQuads(const QuadData& q) {
+  TriData t;
+  t.V = q.V;
+  t.F.reserve(2 * q.F.size());
+  for (const Quad& f : q.F) {
+    t.F.push_back({f[0], f[1], f[2]});
+    t.F.push_back({f[0], f[2], f[3]});
+  }
+  return t;
+}
+
 Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV) {
   std::vector<std::vector<int>> nb(nV);
   for (const auto& f : F)

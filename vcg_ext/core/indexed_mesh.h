@@ -69,6 +69,8 @@ Adjacency VertexFaceAdjacency(const std::vector<Tri>& F, int nV);
 /// Half-edges (a, b) of the faces whose twin (b, a) is in no face: the boundary of an oriented
 /// manifold, in face order (face by face, sides 01, 12, 20). Linear time (VertexFaceAdjacency).
 std::vector<std::pair<int, int>> BoundaryHalfEdges(const TriData& m);
+/// The quads as triangles, each split along its 0-2 diagonal (q0 q1 q2, q0 q2 q3), in order.
+TriData SplitQuads(const QuadData& q);
 /// Vertex -> adjacent vertices (each once, through any incident face).
 Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV);
 

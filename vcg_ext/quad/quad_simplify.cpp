@@ -147,6 +147,14 @@ void CarryStartRetries(const QuadSimplifyResult& from, QuadSimplifyResult& to) {
   to.secondsStartRetries = from.secondsStartRetries;
   to.message = from.message;
 }
+
+// The trigger of the fitted checks after the layout (RescueByBudget, CoverFittedArea): cage r's
+// interpolating limit stays farther than rescueRmsPermille from the input (r.layoutRms, computed on
+// first use). Below it the fitted limit is near too, and no fit is spent.
+bool InterpolationFar(const TriData& input, const QuadSimplifyParams& params, QuadSimplifyResult& r) {
+  if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
+  return r.layoutRms > params.rescueRmsPermille / 1000.0 * BBoxDiagonal(input.V);
+}
 }  // namespace
 
 // A cage still far off after the coverage guard and the start refinement (docs/quad.md "A cage
@@ -159,9 +167,8 @@ QuadSimplifyResult RescueByBudget(const TriData& input, const EmbreeScene& scene
                                   const std::vector<double>& M, const QuadSimplifyParams& params,
                                   vcg::CallBackPos* cb, const TriData* start, QuadSimplifyResult r) {
   if (!(params.rescueRmsPermille > 0) || r.patches < 1) return r;
+  if (!InterpolationFar(input, params, r)) return r;
   const double diag = BBoxDiagonal(input.V), far = params.rescueRmsPermille / 1000.0 * diag;
-  if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
-  if (!(r.layoutRms > far)) return r;  // the interpolating limit is near: the fitted one too
   const auto t0 = Clock::now();
   const double rFitted = FittedReferenceRms(input, scene, r.quads);
   if (!(rFitted > far)) {
@@ -203,9 +210,7 @@ QuadSimplifyResult CoverFittedArea(const TriData& input, const EmbreeScene& scen
                                    const std::vector<double>& M, const QuadSimplifyParams& params,
                                    vcg::CallBackPos* cb, const TriData* start, QuadSimplifyResult r) {
   if (!(params.coverageFittedPct > 0) || !(params.rescueRmsPermille > 0) || r.patches < 1) return r;
-  const double diag = BBoxDiagonal(input.V), far = params.rescueRmsPermille / 1000.0 * diag;
-  if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
-  if (!(r.layoutRms > far)) return r;
+  if (!InterpolationFar(input, params, r)) return r;
   const auto t0 = Clock::now();
   FittedMeasure m = MeasureAsReported(input, scene, r.quads, true);
   const int fromPatches = r.patches;

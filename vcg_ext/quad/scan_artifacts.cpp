@@ -84,14 +84,8 @@ SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
 std::string HolesWarning(const TriData& input, const QuadData& cage) {
   // the cage's patches with a corner on its boundary (none: the input has no hole, and its own
   // boundary is not searched, a pass over every triangle of a dense scan)
-  std::vector<std::pair<int, int>> edges;
-  for (const Quad& q : cage.F)
-    for (int k = 0; k < 4; ++k) edges.emplace_back(std::min(q[k], q[(k + 1) % 4]), std::max(q[k], q[(k + 1) % 4]));
-  std::sort(edges.begin(), edges.end());
   std::vector<char> onBoundary(cage.V.size(), 0);
-  for (size_t i = 0; i < edges.size(); ++i)
-    if ((i == 0 || edges[i] != edges[i - 1]) && (i + 1 == edges.size() || edges[i] != edges[i + 1]))
-      onBoundary[size_t(edges[i].first)] = onBoundary[size_t(edges[i].second)] = 1;
+  for (const auto& [a, b] : BoundaryHalfEdges(SplitQuads(cage))) onBoundary[size_t(a)] = onBoundary[size_t(b)] = 1;
   long bordering = 0;
   for (const Quad& q : cage.F) bordering += onBoundary[size_t(q[0])] || onBoundary[size_t(q[1])] ||
                                             onBoundary[size_t(q[2])] || onBoundary[size_t(q[3])];

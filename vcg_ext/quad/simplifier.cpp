@@ -992,12 +992,7 @@ void SweepCage(const TriData& input, const EmbreeScene& scene, const std::vector
   if (!params.edgeSwaps || params.swapSweepChain <= 0 || !r.error.empty() || r.quads.F.empty()) return;
   const auto t0 = Clock::now();
   // the cage as triangles, the Simplifier's start: its boundary corners are the ones pinned
-  TriData start;
-  start.V = r.quads.V;
-  for (const Quad& q : r.quads.F) {
-    start.F.push_back({q[0], q[1], q[2]});
-    start.F.push_back({q[0], q[2], q[3]});
-  }
+  const TriData start = SplitQuads(r.quads);
   QuadSimplifyResult scratch;
   Simplifier sim(input, start, scene, S, M, params, scratch);
   sim.K = QuadMesh(r.quads.V, r.quads.F);
