@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <dirent.h>
 #include <map>
-#include <numeric>
 #include <random>
 #include <set>
 
@@ -17,6 +16,7 @@
 #include "quad_test_util.h"
 #include "test_support.h"
 #include "vcg_ext/core/mesh_types.h"
+#include "vcg_ext/core/union_find.h"
 #include "vcg_ext/io/mesh_io.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/quad_simplify.h"
@@ -25,19 +25,13 @@
 namespace {
 using vcgext::TriData;
 
-int Find(std::vector<int>& p, int x) {
-  while (p[x] != x) x = p[x] = p[p[x]];
-  return x;
-}
-
 // (Euler characteristic, boundary loops) per component of a triangle mesh, sorted.
 std::vector<std::pair<int, int>> TriangleTopology(const TriData& t) {
   const int n = int(t.V.size());
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
+  vcgext::UnionFind parent(n);
   for (const auto& f : t.F) {
-    parent[Find(parent, f[1])] = Find(parent, f[0]);
-    parent[Find(parent, f[2])] = Find(parent, f[0]);
+    parent.Unite(f[1], f[0]);
+    parent.Unite(f[2], f[0]);
   }
   std::set<std::pair<int, int>> edges, directed;
   for (const auto& f : t.F)
@@ -48,12 +42,12 @@ std::vector<std::pair<int, int>> TriangleTopology(const TriData& t) {
   std::map<int, std::array<int, 3>> comp;  // root -> V, E, F
   std::vector<char> used(n, 0);
   for (const auto& f : t.F) {
-    ++comp[Find(parent, f[0])][2];
+    ++comp[parent.Find(f[0])][2];
     for (int v : f) used[v] = 1;
   }
   for (int v = 0; v < n; ++v)
-    if (used[v]) ++comp[Find(parent, v)][0];
-  for (const auto& e : edges) ++comp[Find(parent, e.first)][1];
+    if (used[v]) ++comp[parent.Find(v)][0];
+  for (const auto& e : edges) ++comp[parent.Find(e.first)][1];
   // boundary loops: boundary half-edges (no twin) chained by their start vertex
   std::map<int, int> next;
   for (const auto& [a, b] : directed)
@@ -62,7 +56,7 @@ std::vector<std::pair<int, int>> TriangleTopology(const TriData& t) {
   std::set<int> seen;
   for (const auto& [a, b] : next) {
     if (seen.count(a)) continue;
-    ++loops[Find(parent, a)];
+    ++loops[parent.Find(a)];
     for (int x = a; !seen.count(x) && next.count(x); x = next[x]) seen.insert(x);
   }
   std::vector<std::pair<int, int>> out;

@@ -1,4 +1,5 @@
 #include "vcg_ext/core/input_prep.h"
+#include "vcg_ext/core/union_find.h"
 
 #include <algorithm>
 #include <atomic>
@@ -12,11 +13,6 @@
 
 namespace vcgext {
 namespace {
-
-int Find(std::vector<int>& p, int x) {
-  while (p[x] != x) x = p[x] = p[p[x]];
-  return x;
-}
 
 // 1. exact duplicates: every vertex mapped to the first vertex with the same coordinates.
 std::vector<int> MergeExactDuplicates(const std::vector<Vec3>& V, int* merged) {
@@ -116,14 +112,14 @@ EdgeFaces BuildEdgeFaces(const std::vector<Tri>& F) {
 int NonManifoldVertices(std::vector<Tri>& F, const EdgeFaces& e, int nV, std::vector<int>* copyOf) {
   // faces sharing a manifold edge are in one fan at both its ends
   const Adjacency vf = VertexFaceAdjacency(F, nV);
-  std::vector<int> local, copyOfRoot;
+  UnionFind local;
+  std::vector<int> copyOfRoot;
   int bad = 0;
   for (int v = 0; v < nV; ++v) {
     const int* fs = vf.Begin(v);
     const int nf = vf.Count(v);
     if (nf < 2) continue;
-    local.assign(size_t(nf), 0);
-    std::iota(local.begin(), local.end(), 0);
+    local.Reset(nf);
     auto slot = [&](int f) { return int(std::find(fs, fs + nf, f) - fs); };
     for (int i = 0; i < nf; ++i) {
       const int f = fs[i];
@@ -133,19 +129,19 @@ int NonManifoldVertices(std::vector<Tri>& F, const EdgeFaces& e, int nV, std::ve
         if (e.offs[eid + 1] - e.offs[eid] != 2) continue;
         for (int j = e.offs[eid]; j < e.offs[eid + 1]; ++j) {
           const int g = e.idx[j] / 3;
-          if (g != f) local[Find(local, slot(g))] = Find(local, int(i));
+          if (g != f) local.Unite(slot(g), i);
         }
       }
     }
     int roots = 0;
-    for (int i = 0; i < nf; ++i) roots += Find(local, i) == i;
+    for (int i = 0; i < nf; ++i) roots += local.Find(i) == i;
     bad += roots > 1;
     if (roots < 2 || !copyOf) continue;
     // the fan of the first face keeps v; every other fan's root gets a copy
     copyOfRoot.assign(size_t(nf), -1);
-    const int keep = Find(local, 0);
+    const int keep = local.Find(0);
     for (int i = 0; i < nf; ++i) {
-      const int root = Find(local, i);
+      const int root = local.Find(i);
       if (root == keep) continue;
       if (copyOfRoot[root] < 0) {
         copyOfRoot[root] = nV + int(copyOf->size());

@@ -1,8 +1,8 @@
 #include "vcg_ext/quad/quad_mesh.h"
+#include "vcg_ext/core/union_find.h"
 
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
 
 namespace vcgext {
 namespace quad {
@@ -341,19 +341,10 @@ OpResult QuadMesh::RemoveBoundaryCorner(int b, int* survivor, int keep) {
 }
 
 // ---------------------------------------------------------------------------- validity
-namespace {
-struct DSU {
-  std::vector<int> p;
-  explicit DSU(int n) : p(n) { std::iota(p.begin(), p.end(), 0); }
-  int Find(int x) { while (p[x] != x) x = p[x] = p[p[x]]; return x; }
-  void Unite(int a, int b) { p[Find(a)] = Find(b); }
-};
-}  // namespace
-
 QuadMesh::Invariants QuadMesh::ComputeInvariants() const {
   Invariants inv;
   const int nv = int(P.size());
-  DSU dsu(nv);
+  UnionFind dsu(nv);
   std::vector<std::uint64_t> he;
   for (size_t f = 0; f < F.size(); ++f) {
     if (!faceAlive_[f]) continue;

@@ -2,31 +2,24 @@
 /// Debris and small holes of a raw scan, and what they cost the cage (scan_artifacts.h).
 #include "vcg_ext/quad/scan_artifacts.h"
 
+#include "vcg_ext/core/union_find.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 
 namespace vcgext {
 
-namespace {
-int Root(std::vector<int>& parent, int x) {
-  while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
-  return x;
-}
-}  // namespace
-
 SmallPieces FindSmallPieces(const QuadData& cage, double maxDiag) {
   const size_t nV = cage.V.size();
-  std::vector<int> parent(nV);
-  std::iota(parent.begin(), parent.end(), 0);
+  UnionFind pieces(static_cast<int>(nV));
   for (const Quad& q : cage.F)
-    for (int k = 1; k < 4; ++k) parent[size_t(Root(parent, q[k]))] = Root(parent, q[0]);
+    for (int k = 1; k < 4; ++k) pieces.Unite(q[k], q[0]);
   // per piece (by its root): bounding box and patches
   std::vector<Vec3> lo(nV, Vec3::Constant(1e300)), hi(nV, Vec3::Constant(-1e300));
   std::vector<long> patches(nV, 0);
   for (const Quad& q : cage.F) {
-    const int r = Root(parent, q[0]);
+    const int r = pieces.Find(q[0]);
     ++patches[size_t(r)];
     for (int v : q) {
       lo[size_t(r)] = lo[size_t(r)].cwiseMin(cage.V[size_t(v)]);

@@ -1,4 +1,5 @@
 #include "vcg_ext/subdiv/limit_surface.h"
+#include "vcg_ext/core/union_find.h"
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
@@ -62,16 +63,6 @@ inline std::uint64_t EdgeKey(int a, int b) {
   if (a > b) std::swap(a, b);
   return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
 }
-
-struct UnionFind {
-  std::vector<int> p;
-  explicit UnionFind(int n) : p(n) { std::iota(p.begin(), p.end(), 0); }
-  int Find(int x) {
-    while (p[x] != x) x = p[x] = p[p[x]];
-    return x;
-  }
-  void Join(int a, int b) { p[Find(a)] = Find(b); }
-};
 
 }  // namespace
 
@@ -208,8 +199,8 @@ std::string CheckVertexFans(int nV, const std::vector<int>& sizes, const std::ve
     if (e.count != 2) continue;
     int n0 = sizes[e.f0], n1 = sizes[e.f1];
     // e goes a->b in f0 (corners k0, k0+1) and b->a in f1 (corners k1, k1+1).
-    uf.Join(cornerOffs[e.f0] + e.k0, cornerOffs[e.f1] + (e.k1 + 1) % n1);
-    uf.Join(cornerOffs[e.f0] + (e.k0 + 1) % n0, cornerOffs[e.f1] + e.k1);
+    uf.Unite(cornerOffs[e.f0] + e.k0, cornerOffs[e.f1] + (e.k1 + 1) % n1);
+    uf.Unite(cornerOffs[e.f0] + (e.k0 + 1) % n0, cornerOffs[e.f1] + e.k1);
   }
   std::vector<int> root(nV, -1);
   int bowtie = 0, firstBowtie = -1;
