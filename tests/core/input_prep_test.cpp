@@ -117,7 +117,54 @@ TEST(InputPrep, MobiusStripIsAClearError) {
   EXPECT_NE(w.error.find("not orientable"), std::string::npos) << w.error;
 }
 
-TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
+namespace {
+// Brute force, std::map based: edges in more than two faces; vertices whose faces form more
+// than one fan joined across edges of exactly two faces.
+std::pair<int, int> BruteForceNonManifold(const TriData& t) {
+  std::map<std::pair<int, int>, std::vector<int>> edge;
+  for (int f = 0; f < int(t.F.size()); ++f)
+    for (int k = 0; k < 3; ++k) edge[std::minmax(t.F[f][k], t.F[f][(k + 1) % 3])].push_back(f);
+  int edges = 0, vertices = 0;
+  for (const auto& [key, fs] : edge) edges += fs.size() > 2;
+  for (int v = 0; v < int(t.V.size()); ++v) {
+    std::map<int, int> parent;  // union-find over the faces at v
+    for (int f = 0; f < int(t.F.size()); ++f)
+      if (std::count(t.F[f].begin(), t.F[f].end(), v)) parent[f] = f;
+    std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+    for (const auto& [key, fs] : edge)
+      if ((key.first == v || key.second == v) && fs.size() == 2) parent[find(fs[0])] = find(fs[1]);
+    int roots = 0;
+    for (const auto& [f, p] : parent) roots += find(f) == f;
+    vertices += roots > 1;
+  }
+  return {edges, vertices};
+}
+}  // namespace
+
+namespace {
+// Boundary half-edges of the working copy between vertices the split did not copy (the sheet
+// keeps the originals: it holds the vertices' first faces) that lie on the grid's plane z = 0
+// strictly inside the unit square: a slit of the sheet (its own boundary is on the square's sides).
+int InteriorBoundaryEdgesOnSheet(const WorkingCopy& w) {
+  const TriData& m = w.mesh;
+  auto original = [&](int v) { return w.liveToMesh[size_t(w.meshToLive[size_t(v)])] == v; };
+  int n = 0;
+  for (const auto& [a, b] : vcgext::BoundaryHalfEdges(m)) {
+    if (!original(a) || !original(b)) continue;
+    const Vec3 mid = 0.5 * (m.V[a] + m.V[b]);
+    n += std::abs(mid.z()) < 1e-12 && mid.x() > 1e-9 && mid.x() < 1 - 1e-9 && mid.y() > 1e-9 && mid.y() < 1 - 1e-9;
+  }
+  return n;
+}
+}  // namespace
+
+// Edges of three or more triangles: the two triangles that continue each other most smoothly keep
+// the edge, the others come off it with their fans (their own copies of its vertices), and nothing
+// is deleted. A fin on a sheet, a wall standing on a chain of the sheet's edges (the sheet is not
+// slit along it), a fin with a bow-tie elsewhere, and a closed tetrahedron with a flap continuing
+// one of its faces (the smooth pair would be the flap and that face, which leaves the edge with
+// three triangles: every triangle comes off instead). Each result is manifold by the brute force.
+TEST(InputPrep, TrianglesOnNonManifoldEdgesAreSeparated) {
   TriData fin = testsupport::PlaneGrid(2, 1);  // 4 triangles; add a fin on the middle edge
   fin.V.push_back(Vec3(0.5, 0.5, 1));
   const int top = int(fin.V.size()) - 1;
@@ -131,13 +178,36 @@ TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
   ASSERT_GE(shared.first, 0);
   fin.F.push_back({shared.first, shared.second, top});
   WorkingCopy w = vcgext::PrepareWorkingCopy(fin);
+  ASSERT_EQ(w.error, "");
   EXPECT_EQ(w.nonManifoldEdges, 1);
-  EXPECT_NE(w.error.find("Repair non Manifold"), std::string::npos) << w.error;
+  EXPECT_EQ(w.separatedEdges, 1);
+  EXPECT_EQ(w.nonManifoldVertices, 2);  // the edge's ends: the sheet's fan and the fin's
+  EXPECT_EQ(w.splitVertices, 2);
+  EXPECT_EQ(w.components, 2);           // the sheet and the fin
+  EXPECT_EQ(w.mesh.F.size(), fin.F.size());
+  EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0));
+  EXPECT_EQ(InteriorBoundaryEdgesOnSheet(w), 0);
+  ASSERT_FALSE(w.notes.empty());
+  EXPECT_NE(w.notes[0].find("separated the triangles on 1 edge shared by more than two"), std::string::npos)
+      << w.notes[0];
 
-  // (the fin's two ends count as vertices joining separate pieces too: its edge joins nothing)
-  EXPECT_EQ(w.nonManifoldVertices, 2);
+  // a wall of 2 x 4 triangles standing on the sheet's row of edges y = 0.5
+  TriData wall = testsupport::PlaneGrid(4, 2);
+  const int nGrid = int(wall.V.size());
+  for (int i = 0; i <= 4; ++i) wall.V.push_back(Vec3(0.25 * i, 0.5, 0.5));
+  for (int i = 0; i < 4; ++i) {
+    const int a = 5 + i, b = 5 + i + 1, c = nGrid + i, d = nGrid + i + 1;  // grid row j = 1: 5..9
+    wall.F.push_back({a, b, d});
+    wall.F.push_back({a, d, c});
+  }
+  w = vcgext::PrepareWorkingCopy(wall);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.separatedEdges, 4);
+  EXPECT_EQ(w.components, 2);
+  EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0));
+  EXPECT_EQ(InteriorBoundaryEdgesOnSheet(w), 0);  // the sheet stays whole under the wall
 
-  // a fin and a bow-tie: the edge is an error, and the message names both kinds
+  // a fin and a bow-tie: both repaired, one note each
   TriData both = fin;
   both.V.push_back(Vec3(3, 0, 0));
   both.V.push_back(Vec3(3, 1, 0));
@@ -145,11 +215,24 @@ TEST(InputPrep, NonManifoldEdgesAndVerticesAreCountedAndNamed) {
   while (corner == shared.first || corner == shared.second) ++corner;
   both.F.push_back({corner, int(both.V.size()) - 2, int(both.V.size()) - 1});
   w = vcgext::PrepareWorkingCopy(both);
+  ASSERT_EQ(w.error, "");
   EXPECT_EQ(w.nonManifoldEdges, 1);
   EXPECT_EQ(w.nonManifoldVertices, 3);
-  EXPECT_NE(w.error.find("1 edge is shared by more than two triangles and 3 vertices join separate pieces"),
-            std::string::npos) << w.error;
-  EXPECT_NE(w.error.find("Repair non Manifold Vertices"), std::string::npos) << w.error;
+  EXPECT_EQ(w.components, 3);
+  EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0));
+  EXPECT_EQ(w.notes.size(), 2u);
+
+  // a closed tetrahedron with a flap in the plane of its face (0, 1, 2), continuing it across edge 1-2
+  TriData tet;
+  tet.V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}};
+  tet.F = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}, {2, 4, 1}};
+  w = vcgext::PrepareWorkingCopy(tet);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.separatedEdges, 1);
+  EXPECT_EQ(w.components, 2);  // the closed tetrahedron and the flap
+  EXPECT_EQ(w.mesh.F.size(), 5u);
+  EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0));
+  EXPECT_TRUE(vcgext::BoundaryHalfEdges(w.mesh).size() == 3u);  // the flap's three sides only
 }
 
 // A bow-tie (two triangles touching at one vertex) is split, as MeshLab's Repair non Manifold
@@ -178,29 +261,6 @@ TEST(InputPrep, NonManifoldVerticesAreSplitIntoOneCopyPerSheet) {
   EXPECT_FALSE(vcgext::RemapQuadsToWorkingCopy(w, quads));  // a corner could be either copy
 }
 
-namespace {
-// Brute force, std::map based: edges in more than two faces; vertices whose faces form more
-// than one fan joined across edges of exactly two faces.
-std::pair<int, int> BruteForceNonManifold(const TriData& t) {
-  std::map<std::pair<int, int>, std::vector<int>> edge;
-  for (int f = 0; f < int(t.F.size()); ++f)
-    for (int k = 0; k < 3; ++k) edge[std::minmax(t.F[f][k], t.F[f][(k + 1) % 3])].push_back(f);
-  int edges = 0, vertices = 0;
-  for (const auto& [key, fs] : edge) edges += fs.size() > 2;
-  for (int v = 0; v < int(t.V.size()); ++v) {
-    std::map<int, int> parent;  // union-find over the faces at v
-    for (int f = 0; f < int(t.F.size()); ++f)
-      if (std::count(t.F[f].begin(), t.F[f].end(), v)) parent[f] = f;
-    std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
-    for (const auto& [key, fs] : edge)
-      if ((key.first == v || key.second == v) && fs.size() == 2) parent[find(fs[0])] = find(fs[1]);
-    int roots = 0;
-    for (const auto& [f, p] : parent) roots += find(f) == f;
-    vertices += roots > 1;
-  }
-  return {edges, vertices};
-}
-}  // namespace
 
 // The counts on random damage (fins on random edges, triangles hung on random vertices) against
 // the brute force, and unchanged by renumbering the vertices and reordering the faces.
@@ -226,15 +286,14 @@ TEST(InputPrep, NonManifoldCountsMatchBruteForceOnRandomDamage) {
     WorkingCopy w = vcgext::PrepareWorkingCopy(t);
     EXPECT_EQ(w.nonManifoldEdges, edges) << "trial " << trial;
     EXPECT_EQ(w.nonManifoldVertices, vertices) << "trial " << trial;
-    // without a non-manifold edge the vertices are split: a manifold copy of the same faces, each
-    // vertex where its layer vertex is
-    EXPECT_EQ(w.error.empty(), edges == 0) << "trial " << trial << ": " << w.error;
-    if (edges == 0) {
-      EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0)) << "trial " << trial;
-      EXPECT_EQ(w.mesh.F.size(), t.F.size());
-      EXPECT_GE(int(w.mesh.V.size()), int(t.V.size()) + vertices);  // at least one copy per split vertex
-      for (size_t v = 0; v < w.mesh.V.size(); ++v) EXPECT_EQ(w.mesh.V[v], t.V[size_t(w.meshToLive[v])]);
-    }
+    // fins separated and vertices split: a manifold copy of the same faces, each vertex where its
+    // layer vertex is
+    ASSERT_EQ(w.error, "") << "trial " << trial;
+    EXPECT_EQ(w.separatedEdges, edges) << "trial " << trial;
+    EXPECT_EQ(BruteForceNonManifold(w.mesh), std::make_pair(0, 0)) << "trial " << trial;
+    EXPECT_EQ(w.mesh.F.size(), t.F.size());
+    EXPECT_GE(int(w.mesh.V.size()), int(t.V.size()) + vertices);  // at least one copy per split vertex
+    for (size_t v = 0; v < w.mesh.V.size(); ++v) EXPECT_EQ(w.mesh.V[v], t.V[size_t(w.meshToLive[v])]);
     // renumbered and reordered: the same counts
     std::vector<int> perm(t.V.size());
     std::iota(perm.begin(), perm.end(), 0);

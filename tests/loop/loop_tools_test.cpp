@@ -542,3 +542,32 @@ TEST(LoopVcg, HardEdgeAtASplitVertexGoesToItsSheet) {
   EXPECT_TRUE(s.Ok()) << s.Error();
   EXPECT_EQ(s.NumHardEdges(), 2);
 }
+
+// A hard edge selected on an edge of three triangles (two tetrahedra sharing the edge 0-1,
+// input_prep.h separates them): it goes to every copy of the edge, one per tetrahedron.
+TEST(LoopVcg, HardEdgeOnASeparatedEdgeGoesToEveryCopy) {
+  TriData t;
+  t.V = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, 0.3, 1}, {0.5, -1, 0}, {0.5, -0.3, -1}};
+  t.F = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 1, 4}, {0, 5, 1}, {0, 4, 5}, {1, 5, 4}};
+  const vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(t);
+  ASSERT_EQ(w.error, "");
+  ASSERT_EQ(w.separatedEdges, 1);
+  ASSERT_EQ(w.components, 2);
+  LoopSurfaceParams sp;
+  sp.creaseAngleDeg = 0;
+  sp.extraHardEdges = {{1, 0}};
+  const LoopSurfaceParams p = vcgext::OnWorkingCopy(sp, w);
+  ASSERT_EQ(p.extraHardEdges.size(), 2u);
+  std::set<std::pair<int, int>> edges;
+  for (const auto& f : w.mesh.F)
+    for (int k = 0; k < 3; ++k) edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  for (const auto& [a, b] : p.extraHardEdges) {
+    EXPECT_TRUE(edges.count(std::minmax(a, b))) << a << "-" << b;
+    EXPECT_EQ(std::min(w.meshToLive[size_t(a)], w.meshToLive[size_t(b)]), 0);
+    EXPECT_EQ(std::max(w.meshToLive[size_t(a)], w.meshToLive[size_t(b)]), 1);
+  }
+  EXPECT_NE(p.extraHardEdges[0], p.extraHardEdges[1]);
+  const vcgext::LoopSurface s(w.mesh, p);
+  EXPECT_TRUE(s.Ok()) << s.Error();
+  EXPECT_EQ(s.NumHardEdges(), 2);
+}

@@ -10,6 +10,7 @@ working resolution and the count pass, both from vcglib's quadric edge collapse)
 since the 2025 plugin decimates with 2020.09's vcglib and rounds the layers' coordinates to float
 as 2020.09 reads them (docs/meshlab2025_feasibility.md "Same results")."""
 import json
+import math
 import os
 import re
 import subprocess
@@ -105,7 +106,22 @@ def test_default_pipeline_same_as_meshlabserver(name, tmp_path):
     print("pymeshlab    ", {k: py[k] for k in ["patches", "irregular_vertices", "rms_limit_permille", "rms_displaced_permille"]})
 
 
-NON_MANIFOLD = "OFF\n5 3 0\n0 0 0\n1 0 0\n0.5 1 0\n0.5 -1 0\n0.5 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n"
+def mobius_off(n=12):
+    """A Moebius strip (no consistent orientation: every filter refuses it) as OFF text."""
+    verts, faces = [], []
+    for i in range(n):
+        a = 2 * math.pi * i / n
+        c, r = (3 * math.cos(a), 3 * math.sin(a), 0.0), (math.cos(a), math.sin(a), 0.0)
+        d = tuple(math.cos(a / 2) * r[k] + (math.sin(a / 2) if k == 2 else 0.0) for k in range(3))
+        verts += [tuple(c[k] - 0.5 * d[k] for k in range(3)), tuple(c[k] + 0.5 * d[k] for k in range(3))]
+    for i in range(n):
+        a, b, c = 2 * i, 2 * i + 1, 2 * ((i + 1) % n)
+        d = c + 1
+        if i == n - 1:
+            c, d = d, c
+        faces += [(a, c, d), (a, d, b)]
+    return (f"OFF\n{len(verts)} {len(faces)} 0\n" + "".join("%.9g %.9g %.9g\n" % v for v in verts)
+            + "".join("3 %d %d %d\n" % f for f in faces))
 
 
 @pytest.mark.parametrize("script, function", [
@@ -113,16 +129,17 @@ NON_MANIFOLD = "OFF\n5 3 0\n0 0 0\n1 0 0\n0.5 1 0\n0.5 -1 0\n0.5 0 1\n3 0 1 2\n3
     ("loop_curvature.mlx", "compute_scalar_by_loop_surrogate_curvature_per_vertex"),
 ])
 def test_error_message_is_meshlabs(script, function, tmp_path):
-    # An edge in three triangles: the error PyMeshLab raises carries the text meshlabserver prints.
-    mesh = tmp_path / "non_manifold.off"
-    mesh.write_text(NON_MANIFOLD)
+    # A Moebius strip: the error PyMeshLab raises carries the text meshlabserver prints. (An edge of
+    # three triangles was the example until the working copy learnt to separate them.)
+    mesh = tmp_path / "mobius.off"
+    mesh.write_text(mobius_off())
     ms = pymeshlab.MeshSet()
     ms.load_new_mesh(str(mesh))
     with pytest.raises(pymeshlab.PyMeshLabException) as e:
         getattr(ms, function)()
     head, details = str(e.value).split("\nDetails: ")
     assert head == f"Failed to apply filter: {function}"
-    assert "non-manifold" in details
+    assert "not orientable" in details
     assert ms.mesh_number() == 1 and not ms.current_mesh().has_vertex_scalar()
     r = subprocess.run(["bash", str(REPO / "scripts" / "meshlabserver.sh"), "-i", str(mesh), "-s", str(SCRIPTS / script)],
                        capture_output=True, text=True, timeout=300)

@@ -1,6 +1,8 @@
 #include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/core/union_find.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -103,14 +105,58 @@ EdgeFaces BuildEdgeFaces(const std::vector<Tri>& F) {
   return e;
 }
 
-// 3a. vertices whose incident faces form more than one fan (joined across manifold edges). With
-// `copyOf`, each fan but the one holding the vertex's first face gets its own copy of the vertex
-// (numbered nV, nV + 1, ... in the order made; copyOf lists the original of each) and its faces
-// are rewired to it: a bow-tie becomes two sheets that touch without sharing a vertex (MeshLab's
-// Repair non Manifold Vertices does the same). Needs every edge manifold (the fans of a vertex on
-// an edge of three faces are not separate pieces).
-int NonManifoldVertices(std::vector<Tri>& F, const EdgeFaces& e, int nV, std::vector<int>* copyOf) {
-  // faces sharing a manifold edge are in one fan at both its ends
+int NonManifoldEdges(const EdgeFaces& e) {
+  int n = 0;
+  for (size_t id = 0; id + 1 < e.offs.size(); ++id) n += e.offs[id + 1] - e.offs[id] > 2;
+  return n;
+}
+
+// 3a. Per face side (face * 3 + k), the side joined to it across its edge, -1 for none: the other
+// side of an edge of two faces; on an edge of three or more (a fin, two closed parts sharing an
+// edge), with `pairFins`, the two sides that continue each other most smoothly — a pair running
+// the edge in opposite directions (consistently oriented) with the largest dot product of the
+// faces' normals, or when the edge has no such pair the one that is after flipping a face — and
+// none for the rest. A sheet with a flap along a chain of its edges keeps the sheet joined across
+// the chain (the flap comes off); without the pairing the sheet would be slit along it.
+std::vector<int> JoinedSides(const std::vector<Tri>& F, const std::vector<Vec3>& V, const EdgeFaces& e, bool pairFins) {
+  std::vector<int> join(e.sideEdge.size(), -1);
+  auto normal = [&](int f) {
+    const Vec3 n = (V[F[f][1]] - V[F[f][0]]).cross(V[F[f][2]] - V[F[f][0]]);
+    return n.norm() > 0 ? Vec3(n.normalized()) : Vec3(Vec3::Zero());
+  };
+  for (size_t id = 0; id + 1 < e.offs.size(); ++id) {
+    const int b = e.offs[id], n = e.offs[id + 1] - b;
+    if (n < 2 || (n > 2 && !pairFins)) continue;
+    int s0 = e.idx[b], s1 = e.idx[b + 1];
+    if (n > 2) {
+      double best = -3;
+      bool bestOpposite = false;
+      for (int i = b; i < b + n; ++i)
+        for (int j = i + 1; j < b + n; ++j) {
+          const int si = e.idx[i], sj = e.idx[j];
+          const bool opposite = F[si / 3][si % 3] != F[sj / 3][sj % 3];  // different start vertices
+          const double d = normal(si / 3).dot(normal(sj / 3)), score = opposite ? d : -d;
+          if ((opposite && !bestOpposite) || (opposite == bestOpposite && score > best)) {
+            best = score;
+            bestOpposite = opposite;
+            s0 = si;
+            s1 = sj;
+          }
+        }
+    }
+    join[size_t(s0)] = s1;
+    join[size_t(s1)] = s0;
+  }
+  return join;
+}
+
+// 3b. vertices whose incident faces form more than one fan (faces joined across an edge, `join`,
+// are in one fan at both its ends). With `copyOf`, each fan but the one holding the vertex's first
+// face gets its own copy of the vertex (numbered nV, nV + 1, ... in the order made; copyOf lists
+// the original of each) and its faces are rewired to it: a bow-tie becomes two sheets that touch
+// without sharing a vertex (MeshLab's Repair non Manifold Vertices does the same), and a face left
+// unjoined on an edge of three or more faces comes off it with its fans.
+int NonManifoldVertices(std::vector<Tri>& F, const std::vector<int>& join, int nV, std::vector<int>* copyOf) {
   const Adjacency vf = VertexFaceAdjacency(F, nV);
   UnionFind local;
   std::vector<int> copyOfRoot;
@@ -125,12 +171,8 @@ int NonManifoldVertices(std::vector<Tri>& F, const EdgeFaces& e, int nV, std::ve
       const int f = fs[i];
       for (int k = 0; k < 3; ++k) {
         if (F[f][k] != v && F[f][(k + 1) % 3] != v) continue;
-        const int eid = e.sideEdge[f * 3 + k];
-        if (e.offs[eid + 1] - e.offs[eid] != 2) continue;
-        for (int j = e.offs[eid]; j < e.offs[eid + 1]; ++j) {
-          const int g = e.idx[j] / 3;
-          if (g != f) local.Unite(slot(g), i);
-        }
+        const int other = join[size_t(f * 3 + k)];
+        if (other >= 0) local.Unite(slot(other / 3), i);
       }
     }
     int roots = 0;
@@ -350,9 +392,37 @@ std::string NonManifoldError(const WorkingCopy& w) {
   std::string what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
   if (w.nonManifoldVertices)
     what += " and " + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") + " separate pieces of surface";
-  return "the mesh is non-manifold: " + what + "; repair it with Filters > Cleaning and Repairing > Repair non Manifold "
+  return "the mesh is non-manifold: " + what + " (separating the triangles on them leaves such an edge: they stay "
+         "joined around both of its ends); repair it with Filters > Cleaning and Repairing > Repair non Manifold "
          "Edges" + std::string(w.nonManifoldVertices ? " and Repair non Manifold Vertices" : "") +
          ", then run this filter again";
+}
+
+// 3c. The split (3a, 3b), F and e replaced by the split's: with the faces on each edge of three or
+// more paired smoothly, and when that leaves such an edge (a closed part with a flap continuing one
+// of its faces: the flap and both of the part's faces stay in one fan at both ends), with every
+// face taken off those edges instead. MeshLab's Repair non Manifold Edges deletes faces; this keeps
+// them all. False, with the error, when neither leaves every edge manifold.
+bool SplitNonManifold(const std::vector<Vec3>& V, int n, std::vector<Tri>& F, EdgeFaces& e, std::vector<int>& copyOf,
+                      WorkingCopy& w) {
+  w.nonManifoldEdges = NonManifoldEdges(e);
+  const std::vector<Tri> given = w.nonManifoldEdges ? F : std::vector<Tri>();
+  for (int attempt = 0; attempt < (w.nonManifoldEdges ? 2 : 1); ++attempt) {
+    if (attempt > 0) {
+      F = given;
+      e = BuildEdgeFaces(F);
+      copyOf.clear();
+    }
+    w.nonManifoldVertices = NonManifoldVertices(F, JoinedSides(F, V, e, attempt == 0), n, &copyOf);
+    if (!copyOf.empty()) e = BuildEdgeFaces(F);  // the split renamed edges at the split vertices
+    if (NonManifoldEdges(e) == 0) {
+      w.splitVertices = w.nonManifoldVertices;
+      w.separatedEdges = w.nonManifoldEdges;
+      return true;
+    }
+  }
+  w.error = NonManifoldError(w);
+  return false;
 }
 
 // One log line per repair the working copy made.
@@ -367,6 +437,11 @@ void AddRepairNotes(WorkingCopy& w) {
   if (w.unreferencedVertices)
     w.notes.push_back("ignored " + Plural(w.unreferencedVertices, "unreferenced vertex", "unreferenced vertices") +
                       " (in no face)");
+  if (w.separatedEdges)
+    w.notes.push_back("separated the triangles on " + Plural(w.separatedEdges, "edge", "edges") +
+                      " shared by more than two: a triangle that does not continue the surface across such an edge "
+                      "gets its own copies of the edge's vertices (a fin or flap becomes a piece of its own; no "
+                      "triangle is deleted, unlike Filters > Cleaning and Repairing > Repair non Manifold Edges)");
   if (w.splitVertices)
     w.notes.push_back("split " + Plural(w.splitVertices, "vertex", "vertices") +
                       " where separate pieces of surface touch (one copy per piece, as Filters > Cleaning and "
@@ -392,18 +467,8 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
     return w;
   }
   EdgeFaces e = BuildEdgeFaces(F);
-  for (size_t id = 0; id + 1 < e.offs.size(); ++id) w.nonManifoldEdges += e.offs[id + 1] - e.offs[id] > 2;
-  // 3b. vertices where separate pieces touch are split (one copy per piece) when every edge is
-  // manifold; an edge of three or more faces has no such repair that keeps every face (MeshLab's
-  // Repair non Manifold Edges deletes faces), so it is an error naming both kinds
   std::vector<int> copyOf;  // per vertex made by the split (indices n, n + 1, ...): its original
-  w.nonManifoldVertices = NonManifoldVertices(F, e, n, w.nonManifoldEdges ? nullptr : &copyOf);
-  if (w.nonManifoldEdges) {
-    w.error = NonManifoldError(w);
-    return w;
-  }
-  w.splitVertices = w.nonManifoldVertices;
-  if (!copyOf.empty()) e = BuildEdgeFaces(F);  // the split renamed edges at the split vertices
+  if (!SplitNonManifold(raw.V, n, F, e, copyOf, w)) return w;
   w.flippedFaces = OrientComponents(F, e, &w.components, &w.nonOrientableComponents);
   if (w.nonOrientableComponents) {
     w.error = "the surface is not orientable (" + Plural(w.nonOrientableComponents, "component", "components") +

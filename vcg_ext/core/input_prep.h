@@ -46,6 +46,9 @@ struct WorkingCopy {
   /// non-manifold vertices split into one copy per sheet (the copies follow the layer's vertices
   /// in `mesh`; each maps to its layer vertex in meshToLive, the layer vertex to the first sheet's)
   int splitVertices = 0;
+  /// edges of three or more triangles whose triangles were separated (the split copies their
+  /// vertices for a triangle that does not continue the surface across the edge: a fin comes off)
+  int separatedEdges = 0;
   std::vector<std::string> notes;     ///< what was repaired, one line each (for the log)
   std::vector<std::string> warnings;  ///< what the user should know (precision)
 };

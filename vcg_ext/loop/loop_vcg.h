@@ -43,7 +43,8 @@ bool LoopWorkingCopy(const MeshType& m, WorkingCopy& w, LoopVcgReport& rep) {
 
 /// `sp` with its extra hard edges (given on the layer's live vertices) moved onto the working
 /// copy's vertices; edges at vertices the working copy left out are dropped. At a vertex the
-/// working copy split (WorkingCopy::splitVertices) the edge goes to the copy whose sheet has it.
+/// working copy split (WorkingCopy::splitVertices) the edge goes to the copy whose sheet has it,
+/// and an edge whose triangles were separated (WorkingCopy::separatedEdges) to every copy of it.
 inline LoopSurfaceParams OnWorkingCopy(const LoopSurfaceParams& sp, const WorkingCopy& w) {
   LoopSurfaceParams p = sp;
   p.extraHardEdges.clear();
@@ -64,12 +65,15 @@ inline LoopSurfaceParams OnWorkingCopy(const LoopSurfaceParams& sp, const Workin
   for (const auto& [a, b] : sp.extraHardEdges) {
     const int n = int(w.liveToMesh.size());
     if (a < 0 || b < 0 || a >= n || b >= n || w.liveToMesh[a] < 0 || w.liveToMesh[b] < 0) continue;
-    std::pair<int, int> e{w.liveToMesh[a], w.liveToMesh[b]};
-    if (copies.count(a) || copies.count(b))
-      for (int ca : candidates(a))
-        for (int cb : candidates(b))
-          if (edges.count(std::minmax(ca, cb))) e = {ca, cb};
-    p.extraHardEdges.push_back(e);
+    if (!copies.count(a) && !copies.count(b)) {
+      p.extraHardEdges.push_back({w.liveToMesh[a], w.liveToMesh[b]});
+      continue;
+    }
+    const size_t before = p.extraHardEdges.size();
+    for (int ca : candidates(a))
+      for (int cb : candidates(b))
+        if (edges.count(std::minmax(ca, cb))) p.extraHardEdges.push_back({ca, cb});
+    if (p.extraHardEdges.size() == before) p.extraHardEdges.push_back({w.liveToMesh[a], w.liveToMesh[b]});
   }
   return p;
 }
