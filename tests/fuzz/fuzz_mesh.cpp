@@ -167,8 +167,10 @@ void CheckImport(const vcgext::ImportReport& rep, const TriData& t, bool keepDeg
 
 // PrepareWorkingCopy's promise (input_prep.h): referenced vertices only, no degenerate or repeated
 // faces, manifold (every vertex fan one disk or half-disk: non-manifold vertices split into copies
-// at their position), consistently oriented, consistent maps.
+// at their position, the triangles on edges of three or more separated), consistently oriented,
+// consistent maps.
 void CheckWorkingCopy(const vcgext::WorkingCopy& w, int liveVertices) {
+  REQUIRE(w.error.rfind("internal error", 0) != 0, "%s", w.error.c_str());  // the separation of edges failed
   if (!w.error.empty()) return;
   const TriData& m = w.mesh;
   const int n = int(m.V.size());

@@ -90,6 +90,22 @@ TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
   EXPECT_NE(w.find("Close Holes"), std::string::npos) << w;
   // 3 600 patches of side 0.06: the holes are larger than the patches, no warning
   EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(30), QuadGrid(60)), "");
+  // outlines are not holes: a sheet's rim, and 12 small flaps beside a closed sphere (what the
+  // working copy makes of flaps standing on edges of three triangles) or beside the holed one
+  EXPECT_EQ(vcgext::FindSmallHoles(testsupport::PlaneGrid(8, 8), 1.0).holes, 0);
+  vcgext::TriData flaps = testsupport::Icosphere(3), holedFlaps = testsupport::SphereWithHoles(10);
+  for (vcgext::TriData* t : {&flaps, &holedFlaps})
+    for (int k = 0; k < 12; ++k) {
+      const int n = int(t->V.size());
+      const Vec3 c(1.2 + 0.1 * k, 0, 0);
+      t->V.insert(t->V.end(), {c, c + Vec3(0.05, 0, 0), c + Vec3(0.05, 0, 0.05), c + Vec3(0, 0, 0.05)});
+      t->F.push_back({n, n + 1, n + 2});
+      t->F.push_back({n, n + 2, n + 3});
+    }
+  EXPECT_EQ(vcgext::FindSmallHoles(flaps, 0.25).holes, 0);
+  EXPECT_EQ(vcgext::HolesWarning(flaps, QuadGrid(3)), "");
+  EXPECT_EQ(vcgext::FindSmallHoles(holedFlaps, 0.25).holes, 10);
+  EXPECT_EQ(vcgext::FindSmallHoles(holedFlaps, 0.25).small, 10);
   // a closed cage has no hole to border: no warning, whatever the input
   QuadData box;
   AddBox(box, Vec3::Zero(), 1.0);

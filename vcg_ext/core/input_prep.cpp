@@ -385,24 +385,13 @@ WorkingCopy PrepareUncached(const TriData& raw) {
 }  // namespace
 
 namespace {
-// The error for non-manifold edges (three or more triangles on one), naming the non-manifold
-// vertices too when there are some (only the kinds present: "0 vertices join ..." reads like a
-// contradiction).
-std::string NonManifoldError(const WorkingCopy& w) {
-  std::string what = Plural(w.nonManifoldEdges, "edge is", "edges are") + " shared by more than two triangles";
-  if (w.nonManifoldVertices)
-    what += " and " + Plural(w.nonManifoldVertices, "vertex joins", "vertices join") + " separate pieces of surface";
-  return "the mesh is non-manifold: " + what + " (separating the triangles on them leaves such an edge: they stay "
-         "joined around both of its ends); repair it with Filters > Cleaning and Repairing > Repair non Manifold "
-         "Edges" + std::string(w.nonManifoldVertices ? " and Repair non Manifold Vertices" : "") +
-         ", then run this filter again";
-}
-
 // 3c. The split (3a, 3b), F and e replaced by the split's: with the faces on each edge of three or
 // more paired smoothly, and when that leaves such an edge (a closed part with a flap continuing one
 // of its faces: the flap and both of the part's faces stay in one fan at both ends), with every
-// face taken off those edges instead. MeshLab's Repair non Manifold Edges deletes faces; this keeps
-// them all. False, with the error, when neither leaves every edge manifold.
+// face taken off those edges instead, which always leaves at most two triangles on an edge: around
+// a vertex, faces joined only across edges of two form chains, and a chain has two ends, so at most
+// two of an edge's triangles share a fan at each of its ends. MeshLab's Repair non Manifold Edges
+// deletes faces; this keeps them all. (False, with an internal error, should that ever fail.)
 bool SplitNonManifold(const std::vector<Vec3>& V, int n, std::vector<Tri>& F, EdgeFaces& e, std::vector<int>& copyOf,
                       WorkingCopy& w) {
   w.nonManifoldEdges = NonManifoldEdges(e);
@@ -421,7 +410,9 @@ bool SplitNonManifold(const std::vector<Vec3>& V, int n, std::vector<Tri>& F, Ed
       return true;
     }
   }
-  w.error = NonManifoldError(w);
+  w.error = "internal error: separating the triangles on " +
+            Plural(w.nonManifoldEdges, "edge", "edges") + " shared by more than two left such an edge; repair it with "
+            "Filters > Cleaning and Repairing > Repair non Manifold Edges (and please report the mesh)";
   return false;
 }
 

@@ -52,10 +52,35 @@ std::string DebrisWarning(const QuadData& cage, double inputDiag) {
   return buf;
 }
 
+namespace {
+// Bounding-box diagonal of each vertex's piece (faces joined at shared vertices), by vertex.
+std::vector<double> PieceDiagonals(const TriData& m) {
+  UnionFind pieces(static_cast<int>(m.V.size()));
+  for (const Tri& f : m.F) {
+    pieces.Unite(f[1], f[0]);
+    pieces.Unite(f[2], f[0]);
+  }
+  std::vector<Vec3> lo(m.V.size(), Vec3::Constant(1e300)), hi(m.V.size(), Vec3::Constant(-1e300));
+  for (int v = 0; v < int(m.V.size()); ++v) {
+    const int r = pieces.Find(v);
+    lo[size_t(r)] = lo[size_t(r)].cwiseMin(m.V[size_t(v)]);
+    hi[size_t(r)] = hi[size_t(r)].cwiseMax(m.V[size_t(v)]);
+  }
+  std::vector<double> diag(m.V.size());
+  for (int v = 0; v < int(m.V.size()); ++v) {
+    const int r = pieces.Find(v);
+    diag[size_t(v)] = (hi[size_t(r)] - lo[size_t(r)]).norm();
+  }
+  return diag;
+}
+}  // namespace
+
 SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
   // follow each boundary half-edge (a, b) to the one leaving b (at a non-manifold boundary vertex
   // any of them: the loops' count and sizes are what matters here)
   const std::vector<std::pair<int, int>> half = BoundaryHalfEdges(m);
+  if (half.empty()) return {};
+  const std::vector<double> pieceDiag = PieceDiagonals(m);
   std::vector<int> next(m.V.size(), -1);
   for (size_t i = 0; i < half.size(); ++i) next[size_t(half[i].first)] = int(i);
   std::vector<char> used(half.size(), 0);
@@ -68,8 +93,12 @@ SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
       lo = lo.cwiseMin(m.V[size_t(half[size_t(k)].second)]);
       hi = hi.cwiseMax(m.V[size_t(half[size_t(k)].second)]);
     }
+    // a loop spanning half its piece or more is the piece's outline (a sheet's rim, a flap that
+    // the working copy separated from an edge of three triangles), not a hole in it
+    const double d = (hi - lo).norm();
+    if (d >= kOutlineShare * pieceDiag[size_t(half[i].first)]) continue;
     ++h.holes;
-    h.small += (hi - lo).norm() < maxDiag;
+    h.small += d < maxDiag;
   }
   return h;
 }

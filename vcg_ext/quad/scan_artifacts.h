@@ -40,8 +40,12 @@ std::string DebrisWarning(const QuadData& cage, double inputDiag);
 /// few bolt holes are not scan damage).
 inline constexpr int kManySmallHoles = 10;
 
-/// Boundary loops (holes) of an oriented manifold triangle mesh and those whose bounding-box
-/// diagonal is below `maxDiag`.
+/// A boundary loop whose bounding-box diagonal is at least this share of its piece's is the
+/// piece's outline, not a hole (FindSmallHoles).
+inline constexpr double kOutlineShare = 0.5;
+
+/// Holes of an oriented manifold triangle mesh (its boundary loops but the outlines of their
+/// pieces, kOutlineShare) and those whose bounding-box diagonal is below `maxDiag`.
 struct SmallHoles {
   int holes = 0;
   int small = 0;
