@@ -79,6 +79,74 @@ TEST(InputPrep, SoupIsWeldedToTheSameMesh) {
   EXPECT_NE(w.notes[0].find("merged"), std::string::npos);
 }
 
+namespace {
+// A triangle soup of `t` (each face with its own three vertices), each coordinate moved by up to
+// `jitter` (uniform): an export that rounded every face's corners on their own.
+TriData RoundedSoup(const TriData& t, double jitter, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-jitter, jitter);
+  TriData soup;
+  for (const auto& f : t.F) {
+    for (int k = 0; k < 3; ++k) soup.V.push_back(t.V[f[k]] + Vec3(u(rng), u(rng), u(rng)));
+    const int b = int(soup.V.size()) - 3;
+    soup.F.push_back({b, b + 1, b + 2});
+  }
+  return soup;
+}
+}  // namespace
+
+// An unwelded soup whose copies of a vertex differ by rounding (1e-8 of the diagonal, 1e-6 the
+// tolerance) is welded back into the mesh; one moved farther (1e-4) is not, nor are separate
+// triangles far apart (particles), which only the exact merge would join.
+TEST(InputPrep, SoupWithRoundedCoordinatesIsWeldedWithinAMillionthOfTheDiagonal) {
+  const TriData s = testsupport::Icosphere(2);  // diagonal 2 sqrt(3) (radius 1)
+  const TriData soup = RoundedSoup(s, 1e-8, 3);
+  WorkingCopy w = vcgext::PrepareWorkingCopy(soup);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.mesh.V.size(), s.V.size());
+  EXPECT_EQ(w.mesh.F.size(), s.F.size());
+  EXPECT_EQ(w.mergedVertices, 0);
+  EXPECT_EQ(w.weldedVertices, int(soup.V.size() - s.V.size()));
+  EXPECT_EQ(w.components, 1);
+  EXPECT_TRUE(ClosedAndOriented(w.mesh));
+  for (size_t i = 0; i < soup.V.size(); ++i) EXPECT_LT((w.mesh.V[w.liveToMesh[i]] - soup.V[i]).norm(), 1e-7);
+  ASSERT_EQ(w.notes.size(), 1u);
+  EXPECT_NE(w.notes[0].find("welded " + std::to_string(soup.V.size() - s.V.size()) + " vertices"), std::string::npos)
+      << w.notes[0];
+
+  const WorkingCopy far = vcgext::PrepareWorkingCopy(RoundedSoup(s, 1e-4, 3));
+  ASSERT_EQ(far.error, "");
+  EXPECT_EQ(far.weldedVertices, 0);
+  EXPECT_EQ(far.components, int(s.F.size()));
+
+  TriData particles;
+  for (int k = 0; k < 100; ++k) {
+    const Vec3 c(0.1 * (k % 10), 0.1 * (k / 10), 0);
+    particles.V.insert(particles.V.end(), {c, c + Vec3(0.01, 0, 0), c + Vec3(0, 0.01, 0)});
+    particles.F.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  const WorkingCopy p = vcgext::PrepareWorkingCopy(particles);
+  ASSERT_EQ(p.error, "");
+  EXPECT_EQ(p.weldedVertices, 0);
+  EXPECT_EQ(p.components, 100);
+}
+
+// An STL soup (exact duplicates) of two tetrahedra touching at a point: merged, the point is a
+// non-manifold vertex and is split; kept apart (what coincident vertices that must stay apart get,
+// below) the soup would stay eight separate triangles.
+TEST(InputPrep, StlSoupOfPartsTouchingAtAPointIsWeldedAndSplitNotLeftApart) {
+  TriData t;
+  t.V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
+  t.F = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 5, 4}, {0, 4, 6}, {0, 6, 5}, {4, 5, 6}};
+  const WorkingCopy w = vcgext::PrepareWorkingCopy(RoundedSoup(t, 0, 1));
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.mergedVertices, 24 - 7);
+  EXPECT_EQ(w.splitVertices, 1);
+  EXPECT_EQ(w.components, 2);
+  EXPECT_EQ(w.mesh.V.size(), 8u);
+  EXPECT_TRUE(ClosedAndOriented(w.mesh));
+}
+
 TEST(InputPrep, InconsistentOrientationIsRepairedByMajority) {
   TriData s = testsupport::Icosphere(2);
   const double vol = SignedVolume(s);

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <map>
 #include <numeric>
+#include <unordered_map>
 
 namespace vcgext {
 namespace {
@@ -37,6 +38,53 @@ std::vector<int> MergeExactDuplicates(const std::vector<Vec3>& V, int* merged) {
     }
   }
   return rep;
+}
+
+// 1b. An unwelded export whose coordinates were rounded per face: a triangle soup that the exact
+// merge left apart (more than kSoupVerticesPerFace distinct vertices per face, where a welded
+// surface has about 0.5). Each referenced vertex within kWeldTolerance of the diagonal of one kept
+// before it (a grid of that cell size, the 27 cells around) is merged into it, and the weld is
+// kept when it leaves at most one vertex per face; separate pieces on purpose (particles, specks)
+// stay as they are. `rep` maps onto the kept vertices; returns how many were welded.
+constexpr double kSoupVerticesPerFace = 1.5, kWeldTolerance = 1e-6;
+int WeldRoundedSoup(const std::vector<Vec3>& V, const std::vector<Tri>& F, std::vector<int>& rep) {
+  std::vector<char> referenced(V.size(), 0);
+  long distinct = 0;
+  for (const Tri& f : F)
+    for (int v : f)
+      if (!referenced[size_t(rep[size_t(v)])]) referenced[size_t(rep[size_t(v)])] = 1, ++distinct;
+  const double eps = kWeldTolerance * BBoxDiagonal(V);
+  if (!(double(distinct) > kSoupVerticesPerFace * double(F.size())) || !(eps > 0)) return 0;
+  Vec3 lo = Vec3::Constant(1e300);
+  for (size_t v = 0; v < V.size(); ++v)
+    if (referenced[v]) lo = lo.cwiseMin(V[v]);
+  auto key = [](long x, long y, long z) {
+    return (std::uint64_t(x & 0x1FFFFF) << 42) | (std::uint64_t(y & 0x1FFFFF) << 21) | std::uint64_t(z & 0x1FFFFF);
+  };
+  std::unordered_map<std::uint64_t, std::vector<int>> grid;  // cell -> vertices kept in it
+  std::vector<int> weld(V.size(), -1);
+  long kept = 0;
+  int welded = 0;
+  for (size_t v = 0; v < V.size(); ++v) {
+    if (!referenced[v]) continue;
+    const Vec3 c = (V[v] - lo) / eps;
+    const long x = long(c[0]), y = long(c[1]), z = long(c[2]);
+    for (long dx = -1; dx <= 1 && weld[v] < 0; ++dx)
+      for (long dy = -1; dy <= 1 && weld[v] < 0; ++dy)
+        for (long dz = -1; dz <= 1 && weld[v] < 0; ++dz) {
+          const auto it = grid.find(key(x + dx, y + dy, z + dz));
+          if (it == grid.end()) continue;
+          for (int k : it->second)
+            if ((V[size_t(k)] - V[v]).norm() <= eps) { weld[v] = k; break; }
+        }
+    if (weld[v] >= 0) { ++welded; continue; }
+    weld[v] = int(v);
+    grid[key(x, y, z)].push_back(int(v));
+    ++kept;
+  }
+  if (kept > long(F.size())) return 0;
+  for (int& r : rep) r = weld[size_t(r)];
+  return welded;
 }
 
 // 2. degenerate and repeated faces dropped.
@@ -366,13 +414,15 @@ WorkingCopy PrepareWorkingCopy(const TriData& raw) {
 namespace {
 WorkingCopy PrepareUncached(const TriData& raw) {
   WorkingCopy w = PrepareWorkingCopyImpl(raw, true);
-  if (w.mergedVertices > 0 && (w.nonManifoldEdges > 0 || w.nonManifoldVertices > 0)) {
+  if ((w.mergedVertices > 0 || w.weldedVertices > 0) && (w.nonManifoldEdges > 0 || w.nonManifoldVertices > 0)) {
     // Coincident vertices can be distinct on purpose (a scan touching itself at a point, the
     // two sides of a crack): when merging them is what makes the surface non-manifold, they
-    // stay apart.
+    // stay apart — unless apart the surface falls into more pieces (an STL soup of a mesh with
+    // one non-manifold vertex would be kept as a soup of separate triangles).
     WorkingCopy apart = PrepareWorkingCopyImpl(raw, false);
-    if (apart.nonManifoldEdges == 0 && apart.nonManifoldVertices == 0) {
-      apart.notes.insert(apart.notes.begin(), "kept " + std::to_string(w.mergedVertices) +
+    if (apart.nonManifoldEdges == 0 && apart.nonManifoldVertices == 0 && apart.error.empty() &&
+        apart.components <= w.components) {
+      apart.notes.insert(apart.notes.begin(), "kept " + std::to_string(w.mergedVertices + w.weldedVertices) +
                                                   " coincident vertices apart (merging them would make the surface non-manifold)");
       w = std::move(apart);
     }
@@ -421,6 +471,10 @@ void AddRepairNotes(WorkingCopy& w) {
   if (w.mergedVertices)
     w.notes.push_back("merged " + Plural(w.mergedVertices, "duplicate vertex", "duplicate vertices") +
                       " (same coordinates: an unwelded mesh or STL soup)");
+  if (w.weldedVertices)
+    w.notes.push_back("welded " + Plural(w.weldedVertices, "vertex", "vertices") +
+                      " lying within a millionth of the diagonal of another (an unwelded export whose coordinates "
+                      "were rounded face by face: apart, every triangle was a piece of its own)");
   if (w.degenerateFaces)
     w.notes.push_back("ignored " + Plural(w.degenerateFaces, "degenerate face", "degenerate faces") +
                       " (a repeated vertex)");
@@ -448,8 +502,12 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   CheckPrecision(raw.V, w);
   if (!w.error.empty()) return w;
   std::vector<int> rep(n);
-  if (merge) rep = MergeExactDuplicates(raw.V, &w.mergedVertices);
-  else std::iota(rep.begin(), rep.end(), 0);
+  if (merge) {
+    rep = MergeExactDuplicates(raw.V, &w.mergedVertices);
+    w.weldedVertices = WeldRoundedSoup(raw.V, raw.F, rep);
+  } else {
+    std::iota(rep.begin(), rep.end(), 0);
+  }
   std::vector<Tri> F = UniqueFaces(raw.F, rep, w);
   if (F.empty()) {
     w.error = "all " + Plural(int(raw.F.size()), "face is", "faces are") +

@@ -37,6 +37,7 @@ struct WorkingCopy {
   std::vector<int> liveToMesh;        ///< per live layer vertex: its vertex in `mesh`, or -1
   std::vector<int> meshToLive;        ///< per mesh vertex: one live layer vertex mapped to it
   int mergedVertices = 0;             ///< duplicates merged into another vertex
+  int weldedVertices = 0;             ///< of a triangle soup, merged within 1e-6 of the diagonal
   int unreferencedVertices = 0;       ///< live vertices in no face (after dropping faces)
   int degenerateFaces = 0;            ///< faces repeating a vertex (in the layer or after merging)
   int duplicateFaces = 0;             ///< repeated faces dropped
