@@ -441,6 +441,14 @@ def corpus():
     yield ("soup_torus_ascii.stl", "soup", "ASCII STL of a torus", stl_ascii(*torus(24, 12)), VALID, {}, None, None)
     yield off("soup.off", "soup", "icosphere, every face with its own 3 vertices", triangle_soup(*sphere),
               claims=soup_claims)
+    # the same soup with every corner moved by up to 5e-7 (rounded face by face, so nothing is an
+    # exact duplicate): welded within 1e-6 of the diagonal, so the icosphere's few patches, not one
+    # per triangle (1 280 unwelded)
+    jr = random.Random(18)
+    rounded = triangle_soup(*sphere)
+    rounded = ([tuple(c + jr.uniform(-5e-7, 5e-7) for c in p) for p in rounded[0]], rounded[1])
+    yield off("soup_rounded.off", "soup", "icosphere soup, every corner rounded on its own (no exact duplicates)",
+              rounded, claims=soup_claims, prec=17, report_max={"patches": 200})
     stray_max = {"rms_limit_permille": 20, "max_limit_permille": 100, "rms_displaced_permille": 20}
     strays = [(rnd.uniform(-1, 1) * 100, rnd.uniform(-1, 1) * 100, rnd.uniform(50, 100)) for _ in range(200)]
     yield off("strays.off", "unreferenced", "icosphere + 200 unreferenced vertices 50..100 away",
