@@ -515,6 +515,16 @@ TEST(LoopSnap, SurfacePointsSnapToThemselves) {
   EXPECT_EQ(notConverged, 0) << "of " << total;
 }
 
+namespace {
+// The edges of a triangle mesh, each as (lower, higher) vertex.
+std::set<std::pair<int, int>> UndirectedEdges(const TriData& m) {
+  std::set<std::pair<int, int>> edges;
+  for (const auto& f : m.F)
+    for (int k = 0; k < 3; ++k) edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  return edges;
+}
+}  // namespace
+
 // A hard edge selected on a layer whose vertex the working copy split (two tetrahedra touching at
 // vertex 0, input_prep.h): it goes to the copy whose sheet has the edge, so the Loop surface
 // builds (before the split was made: "not an edge of the mesh" for an edge of the second sheet).
@@ -530,9 +540,7 @@ TEST(LoopVcg, HardEdgeAtASplitVertexGoesToItsSheet) {
   sp.extraHardEdges = {{0, 1}, {4, 0}};     // one on each sheet
   const LoopSurfaceParams p = vcgext::OnWorkingCopy(sp, w);
   ASSERT_EQ(p.extraHardEdges.size(), 2u);
-  std::set<std::pair<int, int>> edges;
-  for (const auto& f : w.mesh.F)
-    for (int k = 0; k < 3; ++k) edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  const std::set<std::pair<int, int>> edges = UndirectedEdges(w.mesh);
   for (const auto& [a, b] : p.extraHardEdges) {
     EXPECT_TRUE(edges.count(std::minmax(a, b))) << a << "-" << b;
     EXPECT_EQ(w.mesh.V[size_t(a)], t.V[size_t(w.meshToLive[size_t(a)])]);
@@ -558,9 +566,7 @@ TEST(LoopVcg, HardEdgeOnASeparatedEdgeGoesToEveryCopy) {
   sp.extraHardEdges = {{1, 0}};
   const LoopSurfaceParams p = vcgext::OnWorkingCopy(sp, w);
   ASSERT_EQ(p.extraHardEdges.size(), 2u);
-  std::set<std::pair<int, int>> edges;
-  for (const auto& f : w.mesh.F)
-    for (int k = 0; k < 3; ++k) edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  const std::set<std::pair<int, int>> edges = UndirectedEdges(w.mesh);
   for (const auto& [a, b] : p.extraHardEdges) {
     EXPECT_TRUE(edges.count(std::minmax(a, b))) << a << "-" << b;
     EXPECT_EQ(std::min(w.meshToLive[size_t(a)], w.meshToLive[size_t(b)]), 0);

@@ -54,7 +54,7 @@ int WeldRoundedSoup(const std::vector<Vec3>& V, const std::vector<Tri>& F, std::
     for (int v : f)
       if (!referenced[size_t(rep[size_t(v)])]) referenced[size_t(rep[size_t(v)])] = 1, ++distinct;
   const double eps = kWeldTolerance * BBoxDiagonal(V);
-  if (!(double(distinct) > kSoupVerticesPerFace * double(F.size())) || !(eps > 0)) return 0;
+  if (!(double(distinct) > kSoupVerticesPerFace * double(F.size())) || !(eps > 0) || !std::isfinite(eps)) return 0;
   Vec3 lo = Vec3::Constant(1e300);
   for (size_t v = 0; v < V.size(); ++v)
     if (referenced[v]) lo = lo.cwiseMin(V[v]);
