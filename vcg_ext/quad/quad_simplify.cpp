@@ -79,6 +79,12 @@ void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts) {
 
 namespace {
 
+// RMS distance of cage r's interpolating limit to the input, computed on first use (r.layoutRms).
+double LayoutRms(const TriData& input, QuadSimplifyResult& r) {
+  if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
+  return r.layoutRms;
+}
+
 // What SimplifyToQuads refuses before any work (empty string: nothing).
 std::string CheckInputs(const TriData& input, const TriData& start, const EmbreeScene& scene, const std::vector<double>& S,
                         const std::vector<double>& M, bool startAndQuads) {
@@ -152,8 +158,7 @@ void CarryStartRetries(const QuadSimplifyResult& from, QuadSimplifyResult& to) {
 // interpolating limit stays farther than rescueRmsPermille from the input (r.layoutRms, computed on
 // first use). Below it the fitted limit is near too, and no fit is spent.
 bool InterpolationFar(const TriData& input, const QuadSimplifyParams& params, QuadSimplifyResult& r) {
-  if (!(r.layoutRms > 0)) r.layoutRms = InterpolationRms(input, r.quads);
-  return r.layoutRms > params.rescueRmsPermille / 1000.0 * BBoxDiagonal(input.V);
+  return LayoutRms(input, r) > params.rescueRmsPermille / 1000.0 * BBoxDiagonal(input.V);
 }
 }  // namespace
 
@@ -287,17 +292,13 @@ QuadSimplifyResult SimplifyToQuadsUnswept(const TriData& input, const EmbreeScen
   const TriData* start = startMesh ? startMesh : &input;
   const double diag = BBoxDiagonal(input.V);
   double rFitted = -1;  // r's fitted RMS (computed on first use)
-  auto layoutRms = [&](QuadSimplifyResult& x) {
-    if (!(x.layoutRms > 0)) x.layoutRms = InterpolationRms(input, x.quads);
-    return x.layoutRms;
-  };
   const double far = params.startRmsPermille / 1000.0 * diag;
   // under a budget the finer start's cage, with more patches, is only kept when x fitted is far
   // off (below): so x is fitted first (couplingdown.off @ 200: its 1 838 patches' interpolating
   // limit far, fitted 1.4 per mille; the refined start's passes took 66 s for nothing)
   auto needsFiner = [&](QuadSimplifyResult& x, const TriData& st) {
     if (!(params.startRmsPermille > 0 && (4L * x.patches > long(st.F.size()) || x.coverageOutOfRoom) &&
-          layoutRms(x) > far))
+          LayoutRms(input, x) > far))
       return false;
     if (!budget) return true;
     if (BudgetReached(x.patches, target)) return false;

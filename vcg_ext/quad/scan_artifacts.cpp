@@ -10,22 +10,36 @@
 
 namespace vcgext {
 
-SmallPieces FindSmallPieces(const QuadData& cage, double maxDiag) {
-  const size_t nV = cage.V.size();
-  UnionFind pieces(static_cast<int>(nV));
-  for (const Quad& q : cage.F)
-    for (int k = 1; k < 4; ++k) pieces.Unite(q[k], q[0]);
-  // per piece (by its root): bounding box and patches
-  std::vector<Vec3> lo(nV, Vec3::Constant(1e300)), hi(nV, Vec3::Constant(-1e300));
-  std::vector<long> patches(nV, 0);
-  for (const Quad& q : cage.F) {
-    const int r = pieces.Find(q[0]);
-    ++patches[size_t(r)];
-    for (int v : q) {
-      lo[size_t(r)] = lo[size_t(r)].cwiseMin(cage.V[size_t(v)]);
-      hi[size_t(r)] = hi[size_t(r)].cwiseMax(cage.V[size_t(v)]);
+namespace {
+// The pieces of a mesh (faces joined at shared vertices, UnionFind) and the bounding box of the
+// vertices of each piece's faces, indexed by its root.
+struct Pieces {
+  UnionFind sets;
+  std::vector<Vec3> lo, hi;
+};
+template <class Face>
+Pieces FindPieces(const std::vector<Vec3>& V, const std::vector<Face>& F) {
+  Pieces p{UnionFind(static_cast<int>(V.size())), std::vector<Vec3>(V.size(), Vec3::Constant(1e300)),
+           std::vector<Vec3>(V.size(), Vec3::Constant(-1e300))};
+  for (const Face& f : F)
+    for (size_t k = 1; k < f.size(); ++k) p.sets.Unite(f[k], f[0]);
+  for (const Face& f : F) {
+    const int r = p.sets.Find(f[0]);
+    for (int v : f) {
+      p.lo[size_t(r)] = p.lo[size_t(r)].cwiseMin(V[size_t(v)]);
+      p.hi[size_t(r)] = p.hi[size_t(r)].cwiseMax(V[size_t(v)]);
     }
   }
+  return p;
+}
+}  // namespace
+
+SmallPieces FindSmallPieces(const QuadData& cage, double maxDiag) {
+  const size_t nV = cage.V.size();
+  Pieces pieces = FindPieces(cage.V, cage.F);
+  std::vector<long> patches(nV, 0);  // per piece (by its root)
+  for (const Quad& q : cage.F) ++patches[size_t(pieces.sets.Find(q[0]))];
+  const std::vector<Vec3>&lo = pieces.lo, &hi = pieces.hi;
   SmallPieces s;
   for (size_t r = 0; r < nV; ++r) {
     if (patches[r] == 0) continue;
@@ -53,24 +67,15 @@ std::string DebrisWarning(const QuadData& cage, double inputDiag) {
 }
 
 namespace {
-// Bounding-box diagonal of each vertex's piece (faces joined at shared vertices), by vertex.
+// Bounding-box diagonal of each vertex's piece, by vertex (0 for a vertex in no face).
 std::vector<double> PieceDiagonals(const TriData& m) {
-  UnionFind pieces(static_cast<int>(m.V.size()));
-  for (const Tri& f : m.F) {
-    pieces.Unite(f[1], f[0]);
-    pieces.Unite(f[2], f[0]);
-  }
-  std::vector<Vec3> lo(m.V.size(), Vec3::Constant(1e300)), hi(m.V.size(), Vec3::Constant(-1e300));
-  for (int v = 0; v < int(m.V.size()); ++v) {
-    const int r = pieces.Find(v);
-    lo[size_t(r)] = lo[size_t(r)].cwiseMin(m.V[size_t(v)]);
-    hi[size_t(r)] = hi[size_t(r)].cwiseMax(m.V[size_t(v)]);
-  }
-  std::vector<double> diag(m.V.size());
-  for (int v = 0; v < int(m.V.size()); ++v) {
-    const int r = pieces.Find(v);
-    diag[size_t(v)] = (hi[size_t(r)] - lo[size_t(r)]).norm();
-  }
+  Pieces pieces = FindPieces(m.V, m.F);
+  std::vector<double> diag(m.V.size(), 0.0);
+  for (const Tri& f : m.F)
+    for (int v : f) {
+      const int r = pieces.sets.Find(v);
+      diag[size_t(v)] = (pieces.hi[size_t(r)] - pieces.lo[size_t(r)]).norm();
+    }
   return diag;
 }
 }  // namespace
