@@ -277,8 +277,9 @@ TEST(InputPrep, TrianglesOnNonManifoldEdgesAreSeparated) {
 
   // a fin and a bow-tie: both repaired, one note each
   TriData both = fin;
-  both.V.push_back(Vec3(3, 0, 0));
-  both.V.push_back(Vec3(3, 1, 0));
+  // (off the sheet's plane: a triangle lying along the sheet's rim would meet it at T-junctions)
+  both.V.push_back(Vec3(-3, -1, 1));
+  both.V.push_back(Vec3(-3, -2, 1));
   int corner = 0;  // a grid vertex away from the fin
   while (corner == shared.first || corner == shared.second) ++corner;
   both.F.push_back({corner, int(both.V.size()) - 2, int(both.V.size()) - 1});

@@ -314,6 +314,50 @@ def two_spheres_sharing_an_edge():
     return V + [refl[i] for i in keep], F + [tuple(remap[i] for i in f[::-1]) for f in F]
 
 
+def separately_gridded_box(cells):
+    """The unit cube's six faces, face i gridded cells[i] x cells[i] with its own vertices (a CAD
+    body exported face by face): where two faces' grids differ, T-junctions along their edge."""
+    V, F = [], []
+    for face, n in enumerate(cells):
+        axis, plus = face // 2, face % 2 == 0
+        u, v = (axis + 1) % 3, (axis + 2) % 3
+        if not plus:
+            u, v = v, u
+        base = len(V)
+        for i in range(n + 1):
+            for j in range(n + 1):
+                p = [0.0, 0.0, 0.0]
+                p[axis], p[u], p[v] = (1.0 if plus else 0.0), i / n, j / n
+                V.append(tuple(p))
+        idx = lambda i, j: base + i * (n + 1) + j
+        for i in range(n):
+            for j in range(n):
+                F += [(idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)), (idx(i, j), idx(i + 1, j + 1), idx(i, j + 1))]
+    return V, F
+
+
+def t_seam(V, F):
+    """Two halves meshed separately along the seam x = median: each triangle of the x > median side
+    with one edge on the seam is split at that edge's midpoint, its neighbour keeps the edge."""
+    cx = sorted(v[0] for v in V)[len(V) // 2]
+    side = [sum(V[i][0] for i in f) / 3 > cx for f in F]
+    faces_of = {}
+    for fi, f in enumerate(F):
+        for k in range(3):
+            faces_of.setdefault(frozenset((f[k], f[(k + 1) % 3])), []).append(fi)
+    seam = {e for e, fs in faces_of.items() if len(fs) == 2 and side[fs[0]] != side[fs[1]]}
+    V, out = list(V), []
+    for fi, f in enumerate(F):
+        on = [k for k in range(3) if frozenset((f[k], f[(k + 1) % 3])) in seam]
+        if not side[fi] or len(on) != 1:
+            out.append(f)
+            continue
+        a, b, c = f[on[0]], f[(on[0] + 1) % 3], f[(on[0] + 2) % 3]
+        V.append(mul(add(V[a], V[b]), 0.5))
+        out += [(a, len(V) - 1, c), (len(V) - 1, b, c)]
+    return V, out
+
+
 def triangle_soup(V, F):
     return [V[i] for f in F for i in f], [(3 * k, 3 * k + 1, 3 * k + 2) for k in range(len(F))]
 
@@ -560,6 +604,11 @@ def corpus():
     flaps = (scan[0] + [p for w in walls for p in w[0]], scan[1] + [f for w in walls for f in w[1]])
     yield off("scan_fins.off", "scan", "icosphere(4) with 10 flaps standing on chains of its edges (20 edges of 3 triangles)",
               flaps, claims={"non_manifold_edges": True})
+    # T-junctions: separately meshed parts of one surface (closed by the working copy)
+    yield off("tjunction_box.off", "t-junctions", "unit cube, its six faces gridded 3..11 cells a side each on its own",
+              separately_gridded_box([3, 5, 7, 8, 11, 4]), report_max={"patches": 150})
+    yield off("scan_tseam.off", "scan", "icosphere(4) whose halves were meshed separately (T-junctions on the seam)",
+              t_seam(*scan), claims={"non_manifold_vertices": True}, report_max={"patches": 30})
     yield off("scan_overlap.off", "scan", "two icospheres overlapping by half a radius (unmerged, they intersect)",
               merge(scan, icosphere(4, 1.0, (1.5, 0, 0))))
 

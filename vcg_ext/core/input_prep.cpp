@@ -1,4 +1,5 @@
 #include "vcg_ext/core/input_prep.h"
+#include "vcg_ext/core/t_junctions.h"
 #include "vcg_ext/core/union_find.h"
 
 #include <Eigen/Geometry>
@@ -157,6 +158,32 @@ int NonManifoldEdges(const EdgeFaces& e) {
   int n = 0;
   for (size_t id = 0; id + 1 < e.offs.size(); ++id) n += e.offs[id + 1] - e.offs[id] > 2;
   return n;
+}
+
+// The face side of each edge of one face.
+std::vector<int> BoundarySides(const EdgeFaces& e) {
+  std::vector<int> sides;
+  for (size_t id = 0; id + 1 < e.offs.size(); ++id)
+    if (e.offs[id + 1] - e.offs[id] == 1) sides.push_back(e.idx[size_t(e.offs[id])]);
+  return sides;
+}
+
+// 2b. T-junctions closed (t_junctions.h) within a millionth of the diagonal, or the float spacing
+// of the coordinates if coarser (a vertex computed on an edge is off it by rounding). Kept when it
+// joins edges (fewer boundary edges) and makes none of three or more triangles; F and e replaced.
+void CloseTJunctionsOf(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, WorkingCopy& w) {
+  const std::vector<int> boundary = BoundarySides(e);
+  if (boundary.empty()) return;
+  double far = 0;
+  for (const Vec3& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
+  std::vector<Tri> closed = F;
+  const int n = CloseTJunctions(V, closed, boundary, std::max(kWeldTolerance * BBoxDiagonal(V), std::ldexp(far, -23)));
+  if (n == 0) return;
+  EdgeFaces ce = BuildEdgeFaces(closed);
+  if (BoundarySides(ce).size() >= boundary.size() || NonManifoldEdges(ce) > NonManifoldEdges(e)) return;
+  F.swap(closed);
+  e = std::move(ce);
+  w.closedTJunctions = n;
 }
 
 // 3a. Per face side (face * 3 + k), the side joined to it across its edge, -1 for none: the other
@@ -475,6 +502,10 @@ void AddRepairNotes(WorkingCopy& w) {
     w.notes.push_back("welded " + Plural(w.weldedVertices, "vertex", "vertices") +
                       " lying within a millionth of the diagonal of another (an unwelded export whose coordinates "
                       "were rounded face by face: apart, every triangle was a piece of its own)");
+  if (w.closedTJunctions)
+    w.notes.push_back("closed " + Plural(w.closedTJunctions, "T-junction", "T-junctions") +
+                      " (a vertex lying on another triangle's boundary edge: that triangle is split at it, so that "
+                      "separately meshed parts of the surface are joined, not left as open sheets)");
   if (w.degenerateFaces)
     w.notes.push_back("ignored " + Plural(w.degenerateFaces, "degenerate face", "degenerate faces") +
                       " (a repeated vertex)");
@@ -516,6 +547,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
     return w;
   }
   EdgeFaces e = BuildEdgeFaces(F);
+  CloseTJunctionsOf(raw.V, F, e, w);
   std::vector<int> copyOf;  // per vertex made by the split (indices n, n + 1, ...): its original
   if (!SplitNonManifold(raw.V, n, F, e, copyOf, w)) return w;
   w.flippedFaces = OrientComponents(F, e, &w.components, &w.nonOrientableComponents);
@@ -550,7 +582,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
 }  // namespace
 
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads) {
-  if (w.flippedFaces > 0 || w.splitVertices > 0) return false;
+  if (w.flippedFaces > 0 || w.splitVertices > 0 || w.closedTJunctions > 0) return false;
   for (Quad& q : quads) {
     for (int& v : q) {
       if (v < 0 || v >= int(w.liveToMesh.size()) || w.liveToMesh[v] < 0) return false;

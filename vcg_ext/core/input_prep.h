@@ -8,12 +8,14 @@
 /// Steps, in order (each counted, and named in `notes` when it changed something):
 ///  1. exact duplicate vertices (bitwise-equal coordinates, what STL soups and unwelded exports
 ///     hold) are merged — unless merging is what makes the surface non-manifold (coincident
-///     vertices kept apart on purpose: a surface touching itself, the sides of a crack);
+///     vertices kept apart on purpose: a surface touching itself, the sides of a crack); a soup
+///     whose copies of a vertex were rounded face by face is welded within 1e-6 of the diagonal;
 ///  2. faces that repeat a vertex after merging (degenerate) and repeated faces (same three
-///     vertices, either orientation) are dropped;
-///  3. edges in more than two triangles are an error that names them and MeshLab's repair
-///     filters (the same in every filter); vertices where separate sheets touch (a bow-tie) are
-///     split into one copy per sheet, as MeshLab's Repair non Manifold Vertices does;
+///     vertices, either orientation) are dropped; T-junctions (a vertex on another face's
+///     boundary edge, t_junctions.h) are closed by splitting that face;
+///  3. on edges of three or more triangles, the two that continue each other keep the edge and
+///     the others are separated (a fin comes off); vertices where separate sheets touch (a
+///     bow-tie) are split into one copy per sheet, as MeshLab's Repair non Manifold Vertices does;
 ///  4. each connected component is oriented coherently, keeping the orientation of the majority
 ///     of its faces; a non-orientable component (a Möbius strip) is an error;
 ///  5. unreferenced vertices are left out (they get no value: -1 in `liveToMesh`).
@@ -23,7 +25,8 @@
 /// Decision (docs/robustness.md): these steps run on index arrays rather than through vcglib's
 /// tri::Clean on a copy of the layer, because the filters must write per-vertex results back to
 /// the layer's own vertices, and tri::Clean's merges and compactions do not report which vertex
-/// went where. Every step is exact (no tolerance) and tested against hand-made cases.
+/// went where. Every step but the soup weld and the T-junctions is exact (no tolerance); each is
+/// tested against hand-made cases.
 #include <string>
 #include <vector>
 
@@ -38,6 +41,7 @@ struct WorkingCopy {
   std::vector<int> meshToLive;        ///< per mesh vertex: one live layer vertex mapped to it
   int mergedVertices = 0;             ///< duplicates merged into another vertex
   int weldedVertices = 0;             ///< of a triangle soup, merged within 1e-6 of the diagonal
+  int closedTJunctions = 0;           ///< vertices on another face's boundary edge, split into it
   int unreferencedVertices = 0;       ///< live vertices in no face (after dropping faces)
   int degenerateFaces = 0;            ///< faces repeating a vertex (in the layer or after merging)
   int duplicateFaces = 0;             ///< repeated faces dropped
@@ -84,7 +88,8 @@ std::vector<double> AttributeOnWorkingCopy(const WorkingCopy& w, const MeshType&
 
 /// Re-indexes quads given on the layer's live vertices (a polygonal layer's quads) onto the
 /// working copy. False (quads unusable: use the working copy's triangles) if a corner has no
-/// working vertex, a quad repeats a vertex after merging, faces were re-oriented or vertices split.
+/// working vertex, a quad repeats a vertex after merging, faces were re-oriented or split at
+/// T-junctions, or vertices split.
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads);
 
 /// Precision of the coordinates PrepareWorkingCopy reads from a layer. MeshLab 2020.09 stores a
