@@ -358,6 +358,21 @@ def t_seam(V, F):
     return V, out
 
 
+def seam_copies(V, F, jitter, rng):
+    """Two halves exported separately and put back together: the x > median half gets its own
+    copies of the seam's vertices, each coordinate moved by up to `jitter`."""
+    cx = sorted(v[0] for v in V)[len(V) // 2]
+    side = [sum(V[i][0] for i in f) / 3 > cx for f in F]
+    used = [set(), set()]
+    for fi, f in enumerate(F):
+        used[side[fi]].update(f)
+    V, copy = list(V), {}
+    for v in sorted(used[0] & used[1]):
+        V.append(tuple(c + rng.uniform(-jitter, jitter) for c in V[v]))
+        copy[v] = len(V) - 1
+    return V, [tuple(copy.get(i, i) for i in f) if side[fi] else f for fi, f in enumerate(F)]
+
+
 def triangle_soup(V, F):
     return [V[i] for f in F for i in f], [(3 * k, 3 * k + 1, 3 * k + 2) for k in range(len(F))]
 
@@ -609,6 +624,9 @@ def corpus():
               separately_gridded_box([3, 5, 7, 8, 11, 4]), report_max={"patches": 150})
     yield off("scan_tseam.off", "scan", "icosphere(4) whose halves were meshed separately (T-junctions on the seam)",
               t_seam(*scan), claims={"non_manifold_vertices": True}, report_max={"patches": 30})
+    yield off("scan_seam_copies.off", "scan", "icosphere(4) whose halves have their own copies of the seam's vertices, "
+              "1e-7 apart", seam_copies(*scan, 1e-7, random.Random(23)), claims=None, prec=12,
+              report_max={"patches": 30})
     yield off("scan_overlap.off", "scan", "two icospheres overlapping by half a radius (unmerged, they intersect)",
               merge(scan, icosphere(4, 1.0, (1.5, 0, 0))))
 

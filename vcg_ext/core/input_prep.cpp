@@ -1,6 +1,7 @@
 #include "vcg_ext/core/input_prep.h"
-#include "vcg_ext/core/t_junctions.h"
+#include "vcg_ext/core/seams.h"
 #include "vcg_ext/core/union_find.h"
+#include "vcg_ext/core/vertex_grid.h"
 
 #include <Eigen/Geometry>
 
@@ -44,7 +45,7 @@ std::vector<int> MergeExactDuplicates(const std::vector<Vec3>& V, int* merged) {
 // 1b. An unwelded export whose coordinates were rounded per face: a triangle soup that the exact
 // merge left apart (more than kSoupVerticesPerFace distinct vertices per face, where a welded
 // surface has about 0.5). Each referenced vertex within kWeldTolerance of the diagonal of one kept
-// before it (a grid of that cell size, the 27 cells around) is merged into it, and the weld is
+// before it (the first such, by index; a grid of that cell size) is merged into it, and the weld is
 // kept when it leaves at most one vertex per face; separate pieces on purpose (particles, specks)
 // stay as they are. `rep` maps onto the kept vertices; returns how many were welded.
 constexpr double kSoupVerticesPerFace = 1.5, kWeldTolerance = 1e-6;
@@ -56,34 +57,12 @@ int WeldRoundedSoup(const std::vector<Vec3>& V, const std::vector<Tri>& F, std::
       if (!referenced[size_t(rep[size_t(v)])]) referenced[size_t(rep[size_t(v)])] = 1, ++distinct;
   const double eps = kWeldTolerance * BBoxDiagonal(V);
   if (!(double(distinct) > kSoupVerticesPerFace * double(F.size())) || !(eps > 0) || !std::isfinite(eps)) return 0;
-  Vec3 lo = Vec3::Constant(1e300);
+  std::vector<int> verts;
   for (size_t v = 0; v < V.size(); ++v)
-    if (referenced[v]) lo = lo.cwiseMin(V[v]);
-  auto key = [](long x, long y, long z) {
-    return (std::uint64_t(x & 0x1FFFFF) << 42) | (std::uint64_t(y & 0x1FFFFF) << 21) | std::uint64_t(z & 0x1FFFFF);
-  };
-  std::unordered_map<std::uint64_t, std::vector<int>> grid;  // cell -> vertices kept in it
-  std::vector<int> weld(V.size(), -1);
-  long kept = 0;
+    if (referenced[v]) verts.push_back(int(v));
   int welded = 0;
-  for (size_t v = 0; v < V.size(); ++v) {
-    if (!referenced[v]) continue;
-    const Vec3 c = (V[v] - lo) / eps;
-    const long x = long(c[0]), y = long(c[1]), z = long(c[2]);
-    for (long dx = -1; dx <= 1 && weld[v] < 0; ++dx)
-      for (long dy = -1; dy <= 1 && weld[v] < 0; ++dy)
-        for (long dz = -1; dz <= 1 && weld[v] < 0; ++dz) {
-          const auto it = grid.find(key(x + dx, y + dy, z + dz));
-          if (it == grid.end()) continue;
-          for (int k : it->second)
-            if ((V[size_t(k)] - V[v]).norm() <= eps) { weld[v] = k; break; }
-        }
-    if (weld[v] >= 0) { ++welded; continue; }
-    weld[v] = int(v);
-    grid[key(x, y, z)].push_back(int(v));
-    ++kept;
-  }
-  if (kept > long(F.size())) return 0;
+  const std::vector<int> weld = WeldWithin(V, verts, eps, [](int, int) { return true; }, &welded);
+  if (long(verts.size()) - welded > long(F.size())) return 0;  // more than one vertex per face kept
   for (int& r : rep) r = weld[size_t(r)];
   return welded;
 }
@@ -168,22 +147,31 @@ std::vector<int> BoundarySides(const EdgeFaces& e) {
   return sides;
 }
 
-// 2b. T-junctions closed (t_junctions.h) within a millionth of the diagonal, or the float spacing
-// of the coordinates if coarser (a vertex computed on an edge is off it by rounding). Kept when it
-// joins edges (fewer boundary edges) and makes none of three or more triangles; F and e replaced.
-void CloseTJunctionsOf(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, WorkingCopy& w) {
+// 2b. Seams closed (seams.h): near-coincident boundary vertices welded and T-junctions closed
+// within a millionth of the diagonal, or the float spacing of the coordinates if coarser (a vertex
+// computed on an edge is off it by rounding). Kept when it joins edges (fewer boundary edges) and
+// makes no more of three or more triangles; F, e and rep replaced.
+void CloseSeams(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, std::vector<int>& rep, WorkingCopy& w) {
   const std::vector<int> boundary = BoundarySides(e);
   if (boundary.empty()) return;
   double far = 0;
   for (const Vec3& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
+  const double tol = std::max(kWeldTolerance * BBoxDiagonal(V), std::ldexp(far, -23));
+  std::vector<int> into;
+  const int welded = WeldSeamVertices(V, F, boundary, tol, into);
   std::vector<Tri> closed = F;
-  const int n = CloseTJunctions(V, closed, boundary, std::max(kWeldTolerance * BBoxDiagonal(V), std::ldexp(far, -23)));
-  if (n == 0) return;
-  EdgeFaces ce = BuildEdgeFaces(closed);
+  for (Tri& f : closed)
+    for (int& v : f) v = into[size_t(v)];
+  EdgeFaces ce = welded ? BuildEdgeFaces(closed) : e;
+  const int inserted = CloseTJunctions(V, closed, welded ? BoundarySides(ce) : boundary, tol);
+  if (welded == 0 && inserted == 0) return;
+  if (inserted) ce = BuildEdgeFaces(closed);
   if (BoundarySides(ce).size() >= boundary.size() || NonManifoldEdges(ce) > NonManifoldEdges(e)) return;
   F.swap(closed);
   e = std::move(ce);
-  w.closedTJunctions = n;
+  for (int& r : rep) r = into[size_t(r)];
+  w.seamVertices = welded;
+  w.closedTJunctions = inserted;
 }
 
 // 3a. Per face side (face * 3 + k), the side joined to it across its edge, -1 for none: the other
@@ -502,6 +490,10 @@ void AddRepairNotes(WorkingCopy& w) {
     w.notes.push_back("welded " + Plural(w.weldedVertices, "vertex", "vertices") +
                       " lying within a millionth of the diagonal of another (an unwelded export whose coordinates "
                       "were rounded face by face: apart, every triangle was a piece of its own)");
+  if (w.seamVertices)
+    w.notes.push_back("welded " + Plural(w.seamVertices, "boundary vertex", "boundary vertices") +
+                      " lying within a millionth of the diagonal of another boundary's (a seam between separately "
+                      "meshed parts, each with its own copies of the seam's vertices)");
   if (w.closedTJunctions)
     w.notes.push_back("closed " + Plural(w.closedTJunctions, "T-junction", "T-junctions") +
                       " (a vertex lying on another triangle's boundary edge: that triangle is split at it, so that "
@@ -547,7 +539,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
     return w;
   }
   EdgeFaces e = BuildEdgeFaces(F);
-  CloseTJunctionsOf(raw.V, F, e, w);
+  CloseSeams(raw.V, F, e, rep, w);
   std::vector<int> copyOf;  // per vertex made by the split (indices n, n + 1, ...): its original
   if (!SplitNonManifold(raw.V, n, F, e, copyOf, w)) return w;
   w.flippedFaces = OrientComponents(F, e, &w.components, &w.nonOrientableComponents);

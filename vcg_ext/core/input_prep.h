@@ -11,8 +11,9 @@
 ///     vertices kept apart on purpose: a surface touching itself, the sides of a crack); a soup
 ///     whose copies of a vertex were rounded face by face is welded within 1e-6 of the diagonal;
 ///  2. faces that repeat a vertex after merging (degenerate) and repeated faces (same three
-///     vertices, either orientation) are dropped; T-junctions (a vertex on another face's
-///     boundary edge, t_junctions.h) are closed by splitting that face;
+///     vertices, either orientation) are dropped; seams between separately meshed parts
+///     (seams.h) are closed: boundary vertices within 1e-6 of the diagonal of another boundary's
+///     are welded, and a vertex on another face's boundary edge (a T-junction) splits that face;
 ///  3. on edges of three or more triangles, the two that continue each other keep the edge and
 ///     the others are separated (a fin comes off); vertices where separate sheets touch (a
 ///     bow-tie) are split into one copy per sheet, as MeshLab's Repair non Manifold Vertices does;
@@ -41,6 +42,7 @@ struct WorkingCopy {
   std::vector<int> meshToLive;        ///< per mesh vertex: one live layer vertex mapped to it
   int mergedVertices = 0;             ///< duplicates merged into another vertex
   int weldedVertices = 0;             ///< of a triangle soup, merged within 1e-6 of the diagonal
+  int seamVertices = 0;               ///< boundary vertices welded to another boundary's (seams.h)
   int closedTJunctions = 0;           ///< vertices on another face's boundary edge, split into it
   int unreferencedVertices = 0;       ///< live vertices in no face (after dropping faces)
   int degenerateFaces = 0;            ///< faces repeating a vertex (in the layer or after merging)

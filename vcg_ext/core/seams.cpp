@@ -1,48 +1,15 @@
-#include "vcg_ext/core/t_junctions.h"
+#include "vcg_ext/core/seams.h"
+#include "vcg_ext/core/vertex_grid.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
+#include <numeric>
+#include <set>
 #include <unordered_map>
 #include <utility>
 
 namespace vcgext {
 namespace {
-
-// The boundary vertices bucketed in a uniform grid (cells of about a mean boundary edge).
-class VertexGrid {
- public:
-  VertexGrid(const std::vector<Vec3>& V, const std::vector<int>& verts, double cell) : V_(V), cell_(cell) {
-    for (int v : verts) cells_[Key(Cell(V[size_t(v)]))].push_back(v);
-  }
-  // Vertices within `tol` of the segment a-b (the cells around samples every half cell along it).
-  void Near(const Vec3& a, const Vec3& b, std::vector<int>& out) const {
-    out.clear();
-    const int steps = 1 + int(std::ceil((b - a).norm() / (0.5 * cell_)));
-    for (int i = 0; i <= steps; ++i) {
-      const std::array<long, 3> c = Cell(a + (b - a) * (double(i) / steps));
-      for (long dx = -1; dx <= 1; ++dx)
-        for (long dy = -1; dy <= 1; ++dy)
-          for (long dz = -1; dz <= 1; ++dz) {
-            const auto it = cells_.find(Key({c[0] + dx, c[1] + dy, c[2] + dz}));
-            if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
-          }
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
-
- private:
-  std::array<long, 3> Cell(const Vec3& p) const {
-    return {long(std::floor(p[0] / cell_)), long(std::floor(p[1] / cell_)), long(std::floor(p[2] / cell_))};
-  }
-  static std::uint64_t Key(const std::array<long, 3>& c) {
-    return (std::uint64_t(c[0] & 0x1FFFFF) << 42) | (std::uint64_t(c[1] & 0x1FFFFF) << 21) | std::uint64_t(c[2] & 0x1FFFFF);
-  }
-  const std::vector<Vec3>& V_;
-  double cell_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
-};
 
 // A vertex of the polygon a face becomes: its index and the sides of the face it lies on (bit k:
 // the side from corner k to corner k + 1; a corner lies on two).
@@ -82,21 +49,48 @@ bool ClipEars(std::vector<PolyVertex> poly, std::vector<Tri>& out) {
   return true;
 }
 
+// The ends of the boundary sides, sorted, once each.
+std::vector<int> BoundaryVertices(const std::vector<Tri>& F, const std::vector<int>& boundarySides) {
+  std::vector<int> verts;
+  for (int s : boundarySides)
+    for (int end = 0; end < 2; ++end) verts.push_back(F[size_t(s / 3)][size_t((s % 3 + end) % 3)]);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  return verts;
+}
+
 }  // namespace
+
+int WeldSeamVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
+                     double tol, std::vector<int>& into) {
+  into.resize(V.size());
+  std::iota(into.begin(), into.end(), 0);
+  if (boundarySides.empty() || !(tol > 0) || !std::isfinite(tol)) return 0;
+  const std::vector<int> verts = BoundaryVertices(F, boundarySides);
+  std::vector<char> onBoundary(V.size(), 0);
+  for (int v : verts) onBoundary[size_t(v)] = 1;
+  std::set<std::pair<int, int>> edges;  // between boundary vertices: such two are never merged
+  for (const Tri& f : F)
+    for (int k = 0; k < 3; ++k)
+      if (onBoundary[size_t(f[size_t(k)])] && onBoundary[size_t(f[size_t((k + 1) % 3)])])
+        edges.insert(std::minmax(f[size_t(k)], f[size_t((k + 1) % 3)]));
+  int welded = 0;
+  into = WeldWithin(V, verts, tol, [&](int u, int v) { return !edges.count(std::minmax(u, v)); }, &welded);
+  for (const Tri& f : F)  // two vertices of a face merged into one (a boundary edge under tol): none
+    if (into[size_t(f[0])] == into[size_t(f[1])] || into[size_t(f[1])] == into[size_t(f[2])] ||
+        into[size_t(f[0])] == into[size_t(f[2])]) {
+      std::iota(into.begin(), into.end(), 0);
+      return 0;
+    }
+  return welded;
+}
 
 int CloseTJunctions(const std::vector<Vec3>& V, std::vector<Tri>& F, const std::vector<int>& boundarySides, double tol) {
   if (boundarySides.empty() || !(tol > 0) || !std::isfinite(tol)) return 0;
-  std::vector<int> verts;
   double length = 0;
-  for (int s : boundarySides) {
-    const Tri& f = F[size_t(s / 3)];
-    const int a = f[size_t(s % 3)], b = f[size_t((s % 3 + 1) % 3)];
-    verts.push_back(a);
-    verts.push_back(b);
-    length += (V[size_t(b)] - V[size_t(a)]).norm();
-  }
-  std::sort(verts.begin(), verts.end());
-  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  for (int s : boundarySides)
+    length += (V[size_t(F[size_t(s / 3)][size_t((s % 3 + 1) % 3)])] - V[size_t(F[size_t(s / 3)][size_t(s % 3)])]).norm();
+  const std::vector<int> verts = BoundaryVertices(F, boundarySides);
   const VertexGrid grid(V, verts, std::max(length / double(boundarySides.size()), 4 * tol));
 
   // per face with inserted vertices: per side, (parameter along the side, vertex)

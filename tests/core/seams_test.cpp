@@ -1,5 +1,5 @@
-// T-junctions (t_junctions.h) closed by the working copy (input_prep.h): separately meshed parts
-// of one surface are joined, genuine boundaries are left alone.
+// Seams (seams.h) closed by the working copy (input_prep.h): separately meshed parts of one
+// surface are joined, genuine boundaries are left alone.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -11,7 +11,7 @@
 
 #include "test_support.h"
 #include "vcg_ext/core/input_prep.h"
-#include "vcg_ext/core/t_junctions.h"
+#include "vcg_ext/core/seams.h"
 
 using vcgext::Tri;
 using vcgext::TriData;
@@ -40,10 +40,13 @@ double SmallestArea(const TriData& t) {
 }
 
 // The unit cube's six faces, each gridded on its own (cells[f] x cells[f], vertices not shared
-// with the other faces: a CAD body exported face by face), outward, rotated by `rot` and rounded
-// to float as MeshLab stores them. Where two faces' grids differ, their vertices lie on each
-// other's edges.
-TriData SeparatelyGriddedBox(const std::array<int, 6>& cells, const Eigen::Matrix3d& rot) {
+// with the other faces: a CAD body exported face by face), outward, rotated by `rot`, every
+// coordinate moved by up to `jitter` (each face computed its own copies of the shared edges'
+// points) and rounded to float as MeshLab stores them. Where two faces' grids differ, their
+// vertices lie on each other's edges.
+TriData SeparatelyGriddedBox(const std::array<int, 6>& cells, const Eigen::Matrix3d& rot, double jitter,
+                             std::mt19937& rng) {
+  std::uniform_real_distribution<double> off(-jitter, jitter);
   TriData t;
   for (int face = 0; face < 6; ++face) {
     const int axis = face / 2, n = cells[size_t(face)];
@@ -59,7 +62,7 @@ TriData SeparatelyGriddedBox(const std::array<int, 6>& cells, const Eigen::Matri
         p[u] = double(i) / n;
         p[v] = double(j) / n;
         p = rot * p;
-        for (int k = 0; k < 3; ++k) p[k] = vcgext::RoundedToFloat(p[k]);
+        for (int k = 0; k < 3; ++k) p[k] = vcgext::RoundedToFloat(p[k] + (jitter > 0 ? off(rng) : 0.0));
         t.V.push_back(p);
       }
     auto id = [&](int i, int j) { return base + i * (n + 1) + j; };
@@ -71,40 +74,51 @@ TriData SeparatelyGriddedBox(const std::array<int, 6>& cells, const Eigen::Matri
   }
   return t;
 }
+
+// Closed and whole: one component, every edge paired, the cube's volume, no sliver, no vertex moved.
+void ExpectClosedBox(const TriData& box, const vcgext::WorkingCopy& w) {
+  ASSERT_EQ(w.error, "");
+  EXPECT_GT(w.closedTJunctions, 0);
+  EXPECT_EQ(w.components, 1);
+  EXPECT_EQ(UnpairedHalfEdges(w.mesh), 0);                 // closed: no crack left open
+  EXPECT_NEAR(std::abs(SignedVolume(w.mesh)), 1.0, 1e-5);  // the whole cube, nothing doubled
+  // no triangle of three collinear vertices: the smallest is a sizeable part of a cell's
+  EXPECT_GT(SmallestArea(w.mesh), 1e-6);
+  // no vertex moved or added: every working vertex is a layer vertex at its position
+  for (size_t v = 0; v < w.mesh.V.size(); ++v) EXPECT_EQ(w.mesh.V[v], box.V[size_t(w.meshToLive[v])]);
+  bool named = false;
+  for (const std::string& n : w.notes) named |= n.find("T-junction") != std::string::npos;
+  EXPECT_TRUE(named);
+}
 }  // namespace
 
-TEST(TJunctions, BoxOfSeparatelyGriddedFacesIsClosed) {
+TEST(Seams, BoxOfSeparatelyGriddedFacesIsClosed) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> angle(0, 6.28);
-  for (int trial = 0; trial < 6; ++trial) {
+  for (int trial = 0; trial < 12; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
     const Eigen::Matrix3d rot =
         trial == 0 ? Eigen::Matrix3d::Identity()
                    : (Eigen::AngleAxisd(angle(rng), Vec3(1, 2, 3).normalized()) * Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
                          .toRotationMatrix();
     std::array<int, 6> cells;
     for (int& c : cells) c = 3 + int(rng() % 9);
-    const TriData box = SeparatelyGriddedBox(cells, rot);
+    // odd trials: every face with its own copies of the shared points, 3e-7 apart (the tolerance
+    // is 1e-6 of the diagonal, 1.7e-6): welded at the seams as well
+    const double jitter = trial % 2 ? 3e-7 : 0;
+    const TriData box = SeparatelyGriddedBox(cells, rot, jitter, rng);
     const vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(box);
-    ASSERT_EQ(w.error, "");
-    SCOPED_TRACE("trial " + std::to_string(trial));
-    EXPECT_GT(w.closedTJunctions, 0);
-    EXPECT_EQ(w.components, 1);
-    EXPECT_EQ(UnpairedHalfEdges(w.mesh), 0);                 // closed: no crack left open
-    EXPECT_NEAR(std::abs(SignedVolume(w.mesh)), 1.0, 1e-5);  // the whole cube, nothing doubled
-    // no triangle of three collinear vertices: the smallest is a sizeable part of a cell's
-    EXPECT_GT(SmallestArea(w.mesh), 1e-6);
-    // no vertex moved or added: every working vertex is a layer vertex at its position
-    for (size_t v = 0; v < w.mesh.V.size(); ++v) EXPECT_EQ(w.mesh.V[v], box.V[size_t(w.meshToLive[v])]);
-    ASSERT_FALSE(w.notes.empty());
-    bool named = false;
-    for (const std::string& n : w.notes) named |= n.find("T-junction") != std::string::npos;
-    EXPECT_TRUE(named);
+    ExpectClosedBox(box, w);
+    if (jitter > 0) {
+      EXPECT_EQ(w.mergedVertices, 0);  // no exact duplicates left to merge
+      EXPECT_GT(w.seamVertices, 0);
+    }
   }
 }
 
 // One triangle with vertices inserted into all three sides: the pieces tile it exactly (same
 // area, same orientation, none of zero area) and use every inserted vertex.
-TEST(TJunctions, FaceWithVerticesOnEverySideIsTiledWithoutSlivers) {
+TEST(Seams, FaceWithVerticesOnEverySideIsTiledWithoutSlivers) {
   TriData t;
   t.V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   t.F = {{0, 1, 2}};
@@ -136,7 +150,7 @@ TEST(TJunctions, FaceWithVerticesOnEverySideIsTiledWithoutSlivers) {
 }
 
 // Boundaries that are not T-junctions stay: a sphere's holes, a vertex 10 tolerances off an edge.
-TEST(TJunctions, GenuineBoundariesAreLeftAlone) {
+TEST(Seams, GenuineBoundariesAreLeftAlone) {
   const TriData holes = testsupport::SphereWithHoles(10);
   const vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(holes);
   ASSERT_EQ(w.error, "");
