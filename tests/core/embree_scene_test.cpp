@@ -1,6 +1,7 @@
 // Tests for vcg_ext/core: the Embree scene and the indexed-mesh bridge.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <random>
 
@@ -191,6 +192,56 @@ TEST(EmbreeScene, NearestOnLineMatchesBruteForceForAnyGuessAndWindow) {
     }
   }
   EXPECT_GT(checked, 2000);
+}
+
+// The boundary query (a BVH over the boundary edges) gives the point a loop over every boundary
+// edge gives: a sphere with 40 holes plus 300 floating two-triangle specks (thousands of edges),
+// points anywhere around it, near the holes' rims and on them; a closed mesh has no boundary.
+TEST(EmbreeScene, ClosestBoundaryPointMatchesBruteForce) {
+  vcgext::TriData m = testsupport::SphereWithHoles(40);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 300; ++i) {
+    const int b = int(m.V.size());
+    const Vec3 c(u(rng), u(rng), u(rng));
+    m.V.insert(m.V.end(), {c, c + Vec3(0.01, 0, 0), c + Vec3(0.01, 0.01, 0.005), c + Vec3(0, 0.01, 0)});
+    m.F.push_back({b, b + 1, b + 2});
+    m.F.push_back({b, b + 2, b + 3});
+  }
+  const vcgext::EmbreeScene scene(m);
+  ASSERT_TRUE(scene.Ok());
+  const auto& edges = scene.BoundaryEdges();
+  EXPECT_EQ(edges, vcgext::BoundaryHalfEdges(m));
+  ASSERT_GT(edges.size(), 1200u);
+  auto brute = [&](const Vec3& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [a, b] : edges) {
+      const Vec3 d = m.V[b] - m.V[a];
+      const double t = std::clamp((p - m.V[a]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      best = std::min(best, (m.V[a] + t * d - p).norm());
+    }
+    return best;
+  };
+  std::vector<Vec3> queries;
+  for (int i = 0; i < 400; ++i) queries.push_back(Vec3(u(rng), u(rng), u(rng)));
+  for (size_t i = 0; i < edges.size(); i += 7) {  // on and near the rims
+    const Vec3 &a = m.V[edges[i].first], &b = m.V[edges[i].second];
+    queries.push_back(0.3 * a + 0.7 * b);
+    queries.push_back(a + 1e-4 * Vec3(u(rng), u(rng), u(rng)));
+  }
+  for (const Vec3& p : queries) {
+    const vcgext::EmbreeScene::Hit h = scene.ClosestBoundaryPoint(p);
+    ASSERT_TRUE(h.valid);
+    const double d = brute(p);
+    EXPECT_NEAR(h.t, d, 1e-12) << p.transpose();
+    EXPECT_NEAR((h.point - p).norm(), d, 1e-12);
+    const auto& [a, b] = edges[size_t(h.face)];  // the point lies on the edge it names
+    const Vec3 d2 = m.V[b] - m.V[a];
+    EXPECT_NEAR((m.V[a] + h.u * d2 - h.point).norm(), 0.0, 1e-12);
+  }
+  const vcgext::EmbreeScene closed(testsupport::Icosphere(2));
+  EXPECT_TRUE(closed.BoundaryEdges().empty());
+  EXPECT_FALSE(closed.ClosestBoundaryPoint(Vec3(0, 0, 0)).valid);
 }
 
 TEST(ImportTriangles, RejectsBadLayersAndLeavesThemUntouched) {

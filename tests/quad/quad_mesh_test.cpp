@@ -2,7 +2,10 @@
 // long random operator sequences with the full validity check after each.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <set>
 
 #include "quad_test_util.h"
 #include "vcg_ext/quad/quad_mesh.h"
@@ -306,4 +309,58 @@ TEST(QuadMesh, RandomSequencesTorus) {
   int refusals = 0;
   for (unsigned seed = 1; seed <= 4; ++seed) RandomOps(t, seed, 3000, 4, &refusals);
   EXPECT_GT(refusals, 0) << "the link condition was never exercised";
+}
+
+// A fan of m quads around vertex 0 (a closed disk, or with `open` one quad left out: a half-disk),
+// the faces in shuffled order: Fan orders them in a walk, w[i+1].p == w[i].n, every face once,
+// for valences on both sides of the pairwise / sorted switch (16); a second fan glued at the
+// vertex makes it non-manifold (false).
+TEST(QuadMesh, FanOrdersEveryValenceAndRefusesTwoFans) {
+  std::mt19937 rng(4);
+  for (int m : {3, 5, 16, 17, 40, 300})
+    for (bool open : {false, true})
+      for (bool twoFans : {false, true}) {
+        SCOPED_TRACE("valence " + std::to_string(m) + (open ? " open" : " closed") + (twoFans ? " two fans" : ""));
+        std::vector<vcgext::Vec3> V = {vcgext::Vec3(0, 0, 0)};
+        for (int i = 0; i < 2 * m; ++i) {
+          const double a = M_PI * i / m;  // rim vertices 1 .. 2m: spokes (odd i) and between them
+          V.push_back(vcgext::Vec3(std::cos(a), std::sin(a), 0) * (i % 2 ? 1.5 : 1.0));
+        }
+        std::vector<vcgext::Quad> F;
+        auto rim = [&](int i) { return 1 + (i % (2 * m)); };
+        for (int i = 0; i < m - (open ? 1 : 0); ++i) F.push_back({0, rim(2 * i), rim(2 * i + 1), rim(2 * i + 2)});
+        if (twoFans) {  // a second disk of 3 quads touching vertex 0 only
+          const int b = int(V.size());
+          for (int i = 0; i < 6; ++i) V.push_back(vcgext::Vec3(std::cos(i), std::sin(i), 5));
+          for (int i = 0; i < 3; ++i) F.push_back({0, b + 2 * i, b + 2 * i + 1, b + (2 * i + 2) % 6});
+        }
+        std::shuffle(F.begin(), F.end(), rng);
+        const QuadMesh K(V, F);
+        std::vector<vcgext::quad::Wedge> w;
+        bool isOpen = !open;
+        const bool ok = K.Fan(0, w, &isOpen);
+        if (twoFans) {
+          EXPECT_FALSE(ok);
+          continue;
+        }
+        ASSERT_TRUE(ok);
+        EXPECT_EQ(isOpen, open);
+        ASSERT_EQ(int(w.size()), m - (open ? 1 : 0));
+        std::set<int> faces;
+        for (size_t i = 0; i < w.size(); ++i) {
+          faces.insert(w[i].f);
+          EXPECT_EQ(F[size_t(w[i].f)][size_t(w[i].k)], 0);
+          if (i + 1 < w.size()) {
+            EXPECT_EQ(w[i + 1].p, w[i].n);
+          }
+        }
+        EXPECT_EQ(faces.size(), w.size());
+        if (open) {
+          EXPECT_EQ(w.front().p, rim(2 * (m - 1)));  // the rim vertex after the gap
+          // an open fan starts at the wedge whose p is no wedge's n
+          for (const auto& x : w) EXPECT_NE(x.n, w.front().p);
+        } else {
+          EXPECT_EQ(w.front().p, w.back().n);  // closed: the walk comes round
+        }
+      }
 }

@@ -7,6 +7,12 @@
 
 namespace vcgext {
 
+// The boundary edges as an Embree user geometry (SegmentBounds: their boxes, rounded outwards).
+struct BoundarySegments {
+  const std::vector<Vec3>* V;
+  const std::vector<std::pair<int, int>>* edges;
+};
+
 namespace {
 void ErrorHandler(void* user, RTCError code, const char* str) {
   auto* msg = static_cast<std::string*>(user);
@@ -49,6 +55,44 @@ bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
   }
   return false;
 }
+void SegmentBounds(const RTCBoundsFunctionArguments* args) {
+  const auto* s = static_cast<const BoundarySegments*>(args->geometryUserPtr);
+  const auto& e = (*s->edges)[args->primID];
+  const Vec3 lo = (*s->V)[size_t(e.first)].cwiseMin((*s->V)[size_t(e.second)]);
+  const Vec3 hi = (*s->V)[size_t(e.first)].cwiseMax((*s->V)[size_t(e.second)]);
+  const float inf = std::numeric_limits<float>::infinity();
+  RTCBounds* b = args->bounds_o;
+  b->lower_x = std::nextafter(float(lo[0]), -inf), b->upper_x = std::nextafter(float(hi[0]), inf);
+  b->lower_y = std::nextafter(float(lo[1]), -inf), b->upper_y = std::nextafter(float(hi[1]), inf);
+  b->lower_z = std::nextafter(float(lo[2]), -inf), b->upper_z = std::nextafter(float(hi[2]), inf);
+}
+
+struct SegmentQuery {
+  const BoundarySegments* segments;
+  Vec3 p;        // the query point (Embree's is float)
+  double offset;  // |p - Embree's float point|: widens the query sphere
+  EmbreeScene::Hit* best;
+  double bestD2;
+};
+
+bool SegmentQueryFunc(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<SegmentQuery*>(args->userPtr);
+  const auto& e = (*q->segments->edges)[args->primID];
+  const Vec3 &a = (*q->segments->V)[size_t(e.first)], &b = (*q->segments->V)[size_t(e.second)];
+  const Vec3& p = q->p;
+  const Vec3 d = b - a;
+  const double l2 = d.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
+  const Vec3 x = a + t * d;
+  const double d2 = (x - p).squaredNorm();
+  if (!(d2 < q->bestD2)) return false;
+  q->bestD2 = d2;
+  *q->best = EmbreeScene::Hit{true, std::sqrt(d2), int(args->primID), t, 0, x};
+  // shrink the query sphere (around the float point), widened so that a segment as close to p
+  // is still visited
+  args->query->radius = float((std::sqrt(d2) + q->offset) * (1 + 1e-6));
+  return true;
+}
 }  // namespace
 
 EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
@@ -83,9 +127,51 @@ EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
   rtcCommitScene(scene);
   if (!error_.empty()) { rtcReleaseScene(scene); return; }
   scene_ = scene;
+  BuildBoundaryScene();
+}
+
+void EmbreeScene::BuildBoundaryScene() {
+  boundary_ = BoundaryHalfEdges(mesh_);
+  if (boundary_.empty()) return;
+  segments_ = std::make_unique<BoundarySegments>(BoundarySegments{&mesh_.V, &boundary_});
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(geom, unsigned(boundary_.size()));
+  rtcSetGeometryUserData(geom, segments_.get());
+  rtcSetGeometryBoundsFunction(geom, SegmentBounds, nullptr);
+  rtcSetGeometryPointQueryFunction(geom, SegmentQueryFunc);
+  rtcCommitGeometry(geom);
+  RTCScene scene = rtcNewScene(device_);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  if (!error_.empty()) {
+    rtcReleaseScene(scene);
+    rtcReleaseScene(scene_);
+    scene_ = nullptr;
+    return;
+  }
+  boundaryScene_ = scene;
+}
+
+EmbreeScene::Hit EmbreeScene::ClosestBoundaryPoint(const Vec3& p) const {
+  Hit best;
+  if (!boundaryScene_ || !p.allFinite()) return best;
+  RTCPointQuery query;
+  query.x = float(p[0]);
+  query.y = float(p[1]);
+  query.z = float(p[2]);
+  const double offset = (p - Vec3(query.x, query.y, query.z)).norm();
+  SegmentQuery q{segments_.get(), p, offset, &best, std::numeric_limits<double>::infinity()};
+  query.radius = std::numeric_limits<float>::infinity();
+  query.time = 0.f;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  rtcPointQuery(boundaryScene_, &query, &ctx, nullptr, &q);
+  return best;
 }
 
 EmbreeScene::~EmbreeScene() {
+  if (boundaryScene_) rtcReleaseScene(boundaryScene_);
   if (scene_) rtcReleaseScene(scene_);
   if (device_) rtcReleaseDevice(device_);
 }

@@ -7,12 +7,17 @@
 #include "vcg_ext/core/indexed_mesh.h"
 
 #include <limits>
+#include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 struct RTCDeviceTy;
 struct RTCSceneTy;
 
 namespace vcgext {
+
+struct BoundarySegments;
 
 class EmbreeScene {
  public:
@@ -62,6 +67,14 @@ class EmbreeScene {
   /// leaves before its radius shrinks (tests/core: brute-force comparison with and without).
   Hit ClosestPoint(const Vec3& p, double maxDist = std::numeric_limits<double>::infinity(),
                    int hintFace = -1) const;
+  /// Closest point to p on the mesh's boundary (its edges of one triangle; invalid when it has
+  /// none), by a second BVH over those edges (an Embree user geometry built with the scene):
+  /// `t` its distance, `face` the boundary edge's index in BoundaryEdges(). The same point as a
+  /// loop over all the edges (tests/core: brute-force comparison), in O(log) instead of O(edges):
+  /// a scan with thousands of holes or floating specks has tens of thousands of them.
+  Hit ClosestBoundaryPoint(const Vec3& p) const;
+  /// The boundary edges (BoundaryHalfEdges of the mesh) ClosestBoundaryPoint searches.
+  const std::vector<std::pair<int, int>>& BoundaryEdges() const { return boundary_; }
 
   const TriData& Mesh() const { return mesh_; }
 
@@ -71,6 +84,10 @@ class EmbreeScene {
   double coordScale_ = 0;  ///< largest |coordinate| (float rounding bound of the hint radius)
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
+  void BuildBoundaryScene();
+  std::vector<std::pair<int, int>> boundary_;
+  std::unique_ptr<BoundarySegments> segments_;
+  RTCSceneTy* boundaryScene_ = nullptr;  ///< user geometry over boundary_ (none without a boundary)
   std::string error_;
 };
 

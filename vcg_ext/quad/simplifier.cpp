@@ -47,10 +47,8 @@ class Simplifier {
     for (double m : M) if (std::isfinite(m)) maxM_ = std::max(maxM_, m);
     tol_ = p.solveTolPercent / 100.0 * diag_;
     FN_ = FaceNormals(in);
-    // input boundary segments (half-edges without twin)
-    bseg_ = BoundaryHalfEdges(in);
     // sharp corners of the start mesh's boundary (turn > boundaryCornerAngleDeg) are pinned
-    const std::vector<std::pair<int, int>> sseg = &start == &in ? bseg_ : BoundaryHalfEdges(start);
+    const std::vector<std::pair<int, int>> sseg = &start == &in ? scene.BoundaryEdges() : BoundaryHalfEdges(start);
     pinned_.assign(start.V.size(), 0);
     std::vector<int> bnext(start.V.size(), -1), bprev(start.V.size(), -1);
     for (auto& [a, b] : sseg) { bnext[a] = b; bprev[b] = a; }
@@ -183,18 +181,8 @@ class Simplifier {
   }
 
   Vec3 BoundaryTarget(const Vec3& p) const {
-    double best = std::numeric_limits<double>::infinity();
-    Vec3 q = p;
-    for (auto& [a, b] : bseg_) {
-      const Vec3 &A = in_.V[a], &B = in_.V[b];
-      Vec3 d = B - A;
-      double l2 = d.squaredNorm();
-      double t = l2 > 0 ? std::clamp((p - A).dot(d) / l2, 0.0, 1.0) : 0.0;
-      Vec3 x = A + t * d;
-      double dd = (x - p).squaredNorm();
-      if (dd < best) { best = dd; q = x; }
-    }
-    return q;
+    const EmbreeScene::Hit h = scene_.ClosestBoundaryPoint(p);
+    return h.valid ? h.point : p;
   }
 
   // hitFace: the input triangle the target lies on when it is a projection along the normal (else -1)
@@ -842,7 +830,6 @@ class Simplifier {
   /// input during simplification (bunny00: the first ray settles 73 % of the queries)
   double window_ = 0;
   std::vector<Vec3> FN_;
-  std::vector<std::pair<int, int>> bseg_;
   std::vector<char> pinned_;  // K vertex slots = start mesh vertex indices for the original vertices
   std::vector<FaceInfo> info_, newInfo_;
   std::vector<char> vok_, newVok_;
