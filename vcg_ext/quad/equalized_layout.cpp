@@ -15,9 +15,19 @@
 
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/quad/simplify_internal.h"
+#include "vcg_ext/quad/working_start.h"
 
 namespace vcgext {
 namespace simplify_internal {
+
+DecimateResult CountStart(const TriData& start, int countFaces) {
+  WorkingResolutionParams wp;
+  wp.maxFaces = countFaces;
+  DecimateResult coarse = WorkingResolution(start, wp);
+  if (coarse.decimated && SliverSharePct(coarse.mesh) > SliverSharePct(start) + kMaxAddedSliverPct)
+    coarse.decimated = false;
+  return coarse;
+}
 
 namespace {
 
@@ -46,11 +56,7 @@ struct Count {
   bool counted = false;    // c holds the count pass (or its error)
   bool recounted = false;  // c holds the count pass on `start` after one on `coarse` (the worker's recount)
   double overlap = 0;      // seconds of the count pass hidden behind the layout pass
-  void DecimateStart(const TriData& start, int countFaces) {
-    WorkingResolutionParams wp;
-    wp.maxFaces = countFaces;
-    coarse = WorkingResolution(start, wp);
-  }
+  void DecimateStart(const TriData& start, int countFaces) { coarse = CountStart(start, countFaces); }
 };
 
 // The count pass on the second thread (serial checks), publishing to `gate`: returns the count
