@@ -54,6 +54,61 @@ Vec3 QuadMesh::Centroid(int f) const {
   return 0.25 * (P[F[f][0]] + P[F[f][1]] + P[F[f][2]] + P[F[f][3]]);
 }
 
+// Fan's ordering of its m wedges w (each corner's f, k, n, o, p), with the checks: every n and every
+// p once (each directed edge once), at most one wedge whose p is no wedge's n (the start of an open
+// fan; a closed fan starts at wedge 0), and the chain from the start through all m wedges, each
+// next wedge the one whose p is the current one's n. The wedge with a given n or p is found by a
+// scan in small fans and, above valence kSmallFan (a pole, a vertex that took many collapses), by
+// look-ups in sorted arrays: O(m log m) instead of O(m^2), the same order.
+namespace {
+constexpr int kSmallFan = 16;
+bool OrderFan(const Wedge* w, int m, std::vector<Wedge>& out, bool* open) {
+  const bool large = m > kSmallFan;
+  std::vector<std::pair<int, int>> byP, byN;  // large: (vertex, wedge), sorted
+  if (large) {
+    for (int i = 0; i < m; ++i) byP.push_back({w[i].p, i}), byN.push_back({w[i].n, i});
+    std::sort(byP.begin(), byP.end());
+    std::sort(byN.begin(), byN.end());
+    for (size_t i = 1; i < size_t(m); ++i)
+      if (byP[i].first == byP[i - 1].first || byN[i].first == byN[i - 1].first) return false;
+  } else {
+    for (int i = 0; i < m; ++i)
+      for (int j = i + 1; j < m; ++j)
+        if (w[i].n == w[j].n || w[i].p == w[j].p) return false;
+  }
+  auto withP = [&](bool p, int v) {  // the wedge whose p (else n) is v, or -1
+    if (large) {
+      const auto& by = p ? byP : byN;
+      const auto it = std::lower_bound(by.begin(), by.end(), std::make_pair(v, -1));
+      return it != by.end() && it->first == v ? it->second : -1;
+    }
+    for (int j = 0; j < m; ++j)
+      if ((p ? w[j].p : w[j].n) == v) return j;
+    return -1;
+  };
+  int start = -1, starts = 0;
+  for (int i = 0; i < m; ++i)
+    if (withP(false, w[i].p) < 0) { start = i; ++starts; }
+  if (starts > 1) return false;
+  const bool isOpen = starts == 1;
+  if (!isOpen) start = 0;
+  out.reserve(size_t(m));
+  int cur = start;
+  for (int step = 0; step < m; ++step) {
+    out.push_back(w[cur]);
+    const int nxt = withP(true, w[cur].n);
+    if (step == m - 1) {
+      if (isOpen ? nxt != -1 : nxt != start) return false;
+    } else {
+      if (nxt < 0 || nxt == start) return false;
+      cur = nxt;
+    }
+  }
+  if (open) *open = isOpen;
+  return true;
+}
+}  // namespace
+
 bool QuadMesh::Fan(int v, std::vector<Wedge>& out, bool* open) const {
   out.clear();
   const auto& l = vf_[v];
@@ -71,78 +126,7 @@ bool QuadMesh::Fan(int v, std::vector<Wedge>& out, bool* open) const {
     if (k < 0) return false;
     w[i] = {f, k, q[(k + 1) & 3], q[(k + 2) & 3], q[(k + 3) & 3]};
   }
-  return m <= kSmallFan ? OrderFanSmall(w, m, out, open) : OrderFanLarge(w, m, out, open);
-}
-
-// Fan's ordering of its m wedges w (each corner's f, k, n, o, p), with the checks: every n and every
-// p once (each directed edge once), at most one wedge whose p is no wedge's n (the start of an open
-// fan; a closed fan starts at wedge 0), and the chain from the start through all m wedges, each
-// next wedge the one whose p is the current one's n. Small fans by pairwise loops; large ones
-// (valence above kSmallFan: a pole, a boundary vertex that took many collapses) by look-ups in
-// sorted arrays, O(m log m) instead of O(m^2), with the same order.
-bool QuadMesh::OrderFanSmall(const Wedge* w, int m, std::vector<Wedge>& out, bool* open) {
-  for (int i = 0; i < m; ++i)
-    for (int j = i + 1; j < m; ++j)
-      if (w[i].n == w[j].n || w[i].p == w[j].p) return false;
-  int start = -1, starts = 0;
-  for (int i = 0; i < m; ++i) {
-    bool matched = false;
-    for (int j = 0; j < m && !matched; ++j) matched = (w[j].n == w[i].p);
-    if (!matched) { start = i; ++starts; }
-  }
-  if (starts > 1) return false;
-  const bool isOpen = starts == 1;
-  if (!isOpen) start = 0;
-  out.reserve(m);
-  int cur = start;
-  for (int step = 0; step < m; ++step) {
-    out.push_back(w[cur]);
-    int nxt = -1;
-    for (int j = 0; j < m; ++j)
-      if (w[j].p == w[cur].n) { nxt = j; break; }
-    if (step == m - 1) {
-      if (isOpen ? nxt != -1 : nxt != start) return false;
-    } else {
-      if (nxt < 0 || nxt == start) return false;
-      cur = nxt;
-    }
-  }
-  if (open) *open = isOpen;
-  return true;
-}
-
-bool QuadMesh::OrderFanLarge(const Wedge* w, int m, std::vector<Wedge>& out, bool* open) {
-  std::vector<std::pair<int, int>> byP(static_cast<size_t>(m)), byN(static_cast<size_t>(m));  // (vertex, wedge)
-  for (int i = 0; i < m; ++i) byP[size_t(i)] = {w[i].p, i}, byN[size_t(i)] = {w[i].n, i};
-  std::sort(byP.begin(), byP.end());
-  std::sort(byN.begin(), byN.end());
-  for (int i = 1; i < m; ++i)
-    if (byP[size_t(i)].first == byP[size_t(i - 1)].first || byN[size_t(i)].first == byN[size_t(i - 1)].first)
-      return false;
-  auto find = [](const std::vector<std::pair<int, int>>& by, int v) {  // the wedge with that vertex, or -1
-    const auto it = std::lower_bound(by.begin(), by.end(), std::make_pair(v, -1));
-    return it != by.end() && it->first == v ? it->second : -1;
-  };
-  int start = -1, starts = 0;
-  for (int i = 0; i < m; ++i)
-    if (find(byN, w[i].p) < 0) { start = i; ++starts; }
-  if (starts > 1) return false;
-  const bool isOpen = starts == 1;
-  if (!isOpen) start = 0;
-  out.reserve(size_t(m));
-  int cur = start;
-  for (int step = 0; step < m; ++step) {
-    out.push_back(w[cur]);
-    const int nxt = find(byP, w[cur].n);
-    if (step == m - 1) {
-      if (isOpen ? nxt != -1 : nxt != start) return false;
-    } else {
-      if (nxt < 0 || nxt == start) return false;
-      cur = nxt;
-    }
-  }
-  if (open) *open = isOpen;
-  return true;
+  return OrderFan(w, m, out, open);
 }
 
 int QuadMesh::AcrossEdge(int f, int k) const {

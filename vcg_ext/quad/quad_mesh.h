@@ -144,9 +144,6 @@ class QuadMesh {
   std::vector<Quad> F;   ///< faces (slots)
 
  private:
-  static constexpr int kSmallFan = 16;  ///< up to this valence, Fan orders by pairwise loops
-  static bool OrderFanSmall(const Wedge* w, int m, std::vector<Wedge>& out, bool* open);
-  static bool OrderFanLarge(const Wedge* w, int m, std::vector<Wedge>& out, bool* open);
   void SaveFace(int f);
   void SaveVert(int v);
   void RemoveVF(int v, int f);
