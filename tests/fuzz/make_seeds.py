@@ -68,6 +68,10 @@ def seeds():
     # three triangles on one edge (non-manifold), a flipped face, a repeated face
     yield "nonmanifold_edge", seed([(0, 0, 0), (4, 0, 0), (2, 4, 0), (2, -4, 0), (2, 0, 4)],
                                    [(0, 1, 2), (1, 0, 3), (0, 1, 4)], flags=FITMAPS | FITMAPS_RAW)
+    # a T-junction: two squares meshed apart, the right one with a vertex on the left one's edge
+    yield "t_junction", seed([(0, 0, 0), (4, 0, 0), (4, 4, 0), (0, 4, 0),
+                              (4, 0, 0), (8, 0, 0), (8, 4, 0), (4, 4, 0), (4, 2, 0), (8, 2, 0)],
+                             [(0, 1, 2), (0, 2, 3), (4, 5, 9), (4, 9, 8), (8, 9, 6), (8, 6, 7)], flags=FITMAPS)
     yield "flipped_repeated", seed(OCTA[0], [(4, 2, 0)] + OCTA[1][1:] + [OCTA[1][1]])
     yield "nan_vertex", seed([(0, 0, 0), (4, 0, 0), (NAN, 4, 0)], [(0, 1, 2)])
     yield "inf_vertex", seed([(0, 0, 0), (INF, 0, 0), (0, 4, 0)], [(0, 1, 2)])

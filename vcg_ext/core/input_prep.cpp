@@ -147,10 +147,19 @@ std::vector<int> BoundarySides(const EdgeFaces& e) {
   return sides;
 }
 
+// Two faces on the same three vertices (either orientation): welding a seam can make them (a
+// sliver on each side of it; the fuzzer found one).
+bool HasRepeatedFaces(const std::vector<Tri>& F) {
+  std::vector<std::array<int, 3>> sorted(F.begin(), F.end());
+  for (auto& f : sorted) std::sort(f.begin(), f.end());
+  std::sort(sorted.begin(), sorted.end());
+  return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+}
+
 // 2b. Seams closed (seams.h): near-coincident boundary vertices welded and T-junctions closed
 // within a millionth of the diagonal, or the float spacing of the coordinates if coarser (a vertex
-// computed on an edge is off it by rounding). Kept when it joins edges (fewer boundary edges) and
-// makes no more of three or more triangles; F, e and rep replaced.
+// computed on an edge is off it by rounding). Kept when it joins edges (fewer boundary edges),
+// makes no more of three or more triangles and repeats no face; F, e and rep replaced.
 void CloseSeams(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, std::vector<int>& rep, WorkingCopy& w) {
   const std::vector<int> boundary = BoundarySides(e);
   if (boundary.empty()) return;
@@ -166,7 +175,9 @@ void CloseSeams(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, s
   const int inserted = CloseTJunctions(V, closed, welded ? BoundarySides(ce) : boundary, tol);
   if (welded == 0 && inserted == 0) return;
   if (inserted) ce = BuildEdgeFaces(closed);
-  if (BoundarySides(ce).size() >= boundary.size() || NonManifoldEdges(ce) > NonManifoldEdges(e)) return;
+  if (BoundarySides(ce).size() >= boundary.size() || NonManifoldEdges(ce) > NonManifoldEdges(e) ||
+      HasRepeatedFaces(closed))
+    return;
   F.swap(closed);
   e = std::move(ce);
   for (int& r : rep) r = into[size_t(r)];
