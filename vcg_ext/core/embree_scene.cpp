@@ -97,7 +97,7 @@ bool SegmentQueryFunc(RTCPointQueryFunctionArguments* args) {
 
 EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
   eps_ = 1e-7 * BBoxDiagonal(mesh_.V);
-  for (const Vec3& v : mesh_.V) coordScale_ = std::max(coordScale_, v.cwiseAbs().maxCoeff());
+  coordScale_ = LargestCoordinate(mesh_.V);
   device_ = rtcNewDevice("threads=0");
   if (!device_) { error_ = "Embree: cannot create a device"; return; }
   rtcSetDeviceErrorFunction(device_, ErrorHandler, &error_);

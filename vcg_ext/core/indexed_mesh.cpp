@@ -33,6 +33,12 @@ double BBoxDiagonal(const std::vector<Vec3>& V) {
   return (hi - lo).norm();
 }
 
+double LargestCoordinate(const std::vector<Vec3>& V) {
+  double far = 0;
+  for (const Vec3& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
+  return far;
+}
+
 double AverageEdgeLength(const TriData& m) {
   double sum = 0.0;
   long n = 0;

@@ -48,6 +48,8 @@ inline double RoundedToFloat(double x) {
 
 /// Axis-aligned bounding box diagonal of a point set (0 for an empty set).
 double BBoxDiagonal(const std::vector<Vec3>& V);
+/// Largest |coordinate| of a point set (0 for an empty set): what float rounding scales with.
+double LargestCoordinate(const std::vector<Vec3>& V);
 /// Mean length of the mesh's edges, each undirected edge counted once.
 double AverageEdgeLength(const TriData& m);
 /// Total area of the triangles.

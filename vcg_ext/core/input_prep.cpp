@@ -163,9 +163,7 @@ bool HasRepeatedFaces(const std::vector<Tri>& F) {
 void CloseSeams(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, std::vector<int>& rep, WorkingCopy& w) {
   const std::vector<int> boundary = BoundarySides(e);
   if (boundary.empty()) return;
-  double far = 0;
-  for (const Vec3& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
-  const double tol = std::max(kWeldTolerance * BBoxDiagonal(V), std::ldexp(far, -23));
+  const double tol = std::max(kWeldTolerance * BBoxDiagonal(V), std::ldexp(LargestCoordinate(V), -23));
   std::vector<int> into;
   const int welded = WeldSeamVertices(V, F, boundary, tol, into);
   std::vector<Tri> closed = F;
@@ -335,8 +333,7 @@ bool AllFloats(const std::vector<Vec3>& V) {
 // diagonal; an error when it rounds them by more than kLostShapeQuantum and they are in fact
 // floats (MeshLab 2020.09's layers; a double layer keeps its shape).
 void CheckPrecision(const std::vector<Vec3>& V, WorkingCopy& w) {
-  double far = 0;
-  for (const auto& p : V) far = std::max(far, p.cwiseAbs().maxCoeff());
+  const double far = LargestCoordinate(V);
   const double diag = BBoxDiagonal(V);
   const double quantum = far * std::ldexp(1.0, -23);  // single-precision spacing at |x| = far
   if (!(diag > 0) || quantum <= 1e-5 * diag) return;
@@ -407,8 +404,7 @@ CoordinatePrecision InputCoordinatePrecision() { return Precision(); }
 
 bool RoundCoordinatesToFloat(std::vector<Vec3>& V) {
   if (V.empty()) return false;
-  double maxAbs = 0;
-  for (const Vec3& v : V) maxAbs = std::max(maxAbs, v.cwiseAbs().maxCoeff());
+  const double maxAbs = LargestCoordinate(V);
   // float's spacing near maxAbs is at most 2^-23 maxAbs: rounding moves a value by half of it
   if (!(std::ldexp(maxAbs, -24) <= 1e-6 * BBoxDiagonal(V))) return false;
   for (Vec3& v : V)

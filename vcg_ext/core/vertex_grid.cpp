@@ -6,10 +6,10 @@
 namespace vcgext {
 
 VertexGrid::VertexGrid(const std::vector<Vec3>& V, const std::vector<int>& verts, double cell)
-    : V_(V), cell_(cell), lo_(Vec3::Zero()) {
-  if (!verts.empty()) lo_ = V_[size_t(verts[0])];
-  for (int v : verts) lo_ = lo_.cwiseMin(V_[size_t(v)]);
-  for (int v : verts) cells_[Key(Cell(V_[size_t(v)]))].push_back(v);
+    : cell_(cell), lo_(Vec3::Zero()) {
+  if (!verts.empty()) lo_ = V[size_t(verts[0])];
+  for (int v : verts) lo_ = lo_.cwiseMin(V[size_t(v)]);
+  for (int v : verts) cells_[Key(Cell(V[size_t(v)]))].push_back(v);
 }
 
 void VertexGrid::Near(const Vec3& a, const Vec3& b, std::vector<int>& out) const {

@@ -15,7 +15,7 @@ namespace vcgext {
 class VertexGrid {
  public:
   /// The vertices `verts` of `V` in cells of side `cell` (> 0, at least a 10^-12 of their bounding
-  /// box's diagonal; `V` must outlive the grid). Queries lie within their bounding box.
+  /// box's diagonal). Queries lie within their bounding box.
   VertexGrid(const std::vector<Vec3>& V, const std::vector<int>& verts, double cell);
   /// Every vertex of the grid within 3/4 `cell` of the segment a-b (a = b: within `cell` of the point), and some
   /// farther, each once in increasing order: the 27 cells around samples every half cell along it.
@@ -24,7 +24,6 @@ class VertexGrid {
  private:
   std::array<long, 3> Cell(const Vec3& p) const;
   static std::uint64_t Key(const std::array<long, 3>& c);
-  const std::vector<Vec3>& V_;
   double cell_;
   Vec3 lo_;  // the grid's corner: the vertices' lowest coordinates
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
