@@ -66,27 +66,29 @@ int CountBeside(const Passes& ps, const QuadSimplifyParams& params, Count& k, qu
   try {
     QuadSimplifyParams wcp = k.params;
     wcp.parallelChecks = QuadSimplifyParams::ParallelChecks::Never;
-    if (!k.decimate) {
-      k.c = ps.Run(ps.start, wcp, Progress(nullptr), nullptr, nullptr, nullptr, &gate);
+    // the count on the layout pass's own start, publishing its live count for the layout pass to follow
+    auto countOnStart = [&] { return ps.Run(ps.start, wcp, Progress(nullptr), nullptr, nullptr, nullptr, &gate); };
+    if (k.decimate) k.DecimateStart(ps.start, params.countFaces);
+    if (!k.decimate || !k.coarse.decimated) {
+      // A coarse start CountStart refused (slivers): the layout pass, which went on freely while
+      // it was decimated, stops where it is and follows this count's live count.
+      if (k.decimate) gate.RaiseFloor(std::numeric_limits<int>::max());
+      k.c = countOnStart();
       k.counted = true;
-      if (k.c.error.empty()) target = std::max(1, k.c.patches);
     } else {
-      k.DecimateStart(ps.start, params.countFaces);
-      if (k.coarse.decimated) {
-        k.c = ps.Run(k.coarse.mesh, wcp, Progress(nullptr));
-        k.counted = true;
-        // A count the coarse start bounds is counted again on the real start, here, while the
-        // layout pass goes on down to a bound of the recount (recountFloorFactor x the coarse
-        // count) or, when it is already below that, waits where it is, and then follows the
-        // recount's live count.
-        if (k.c.error.empty() && CountBoundedByStart(k.c.patches, long(k.coarse.mesh.F.size()))) {
-          gate.RaiseFloor(params.recountFloorFactor * k.c.patches);
-          k.c = ps.Run(ps.start, wcp, Progress(nullptr), nullptr, nullptr, nullptr, &gate);
-          k.recounted = true;
-        }
-        if (k.c.error.empty()) target = std::max(1, k.c.patches);
+      k.c = ps.Run(k.coarse.mesh, wcp, Progress(nullptr));
+      k.counted = true;
+      // A count the coarse start bounds is counted again on the real start, here, while the
+      // layout pass goes on down to a bound of the recount (recountFloorFactor x the coarse
+      // count) or, when it is already below that, waits where it is, and then follows the
+      // recount's live count.
+      if (k.c.error.empty() && CountBoundedByStart(k.c.patches, long(k.coarse.mesh.F.size()))) {
+        gate.RaiseFloor(params.recountFloorFactor * k.c.patches);
+        k.c = countOnStart();
+        k.recounted = true;
       }
     }
+    if (k.c.error.empty()) target = std::max(1, k.c.patches);
   } catch (const std::exception& e) {
     k.c = QuadSimplifyResult();
     k.c.error = std::string("count pass: ") + e.what();
@@ -101,8 +103,8 @@ int CountBeside(const Passes& ps, const QuadSimplifyParams& params, Count& k, qu
 // layout pass goes on down to the largest count that needs no recount (countFaces / 16) and
 // waits there for the count; a count that needs a recount raises that floor to
 // recountFloorFactor x itself (or to where the layout pass is, if lower) and recounts on the
-// second thread too. A count on the layout pass's own start (a small start, or the recount)
-// lets the layout pass go on while it stays above that pass's live count. A count below a step
+// second thread too. A count on the layout pass's own start (a small start, the recount, or a
+// coarse start CountStart refused) lets the layout pass go on while it stays above that pass's live count. A count below a step
 // the layout pass has taken, or an error, cancels it, and the rest runs in sequence. The cages
 // are the same as in sequence (no step depends on the threads).
 // Returns the layout pass (patches 0 when it is to be laid out again after the count), or the
