@@ -253,6 +253,6 @@ TEST(QuadSimplify, CountOnARefusedCountStartRunsBesideTheLayoutPass) {
   EXPECT_EQ(ro.countPatches, rs.countPatches);
   EXPECT_EQ(ro.countStartFaces, int(t.F.size()));
   EXPECT_EQ(rs.countStartFaces, int(t.F.size()));
-  std::printf("fandisk: %d patches (count %d); the count added %.3f s beside the layout pass, %.3f s in sequence\n",
-              ro.patches, ro.countPatches, ro.secondsCount, rs.secondsCount);
+  std::printf("fandisk: %d patches (count %d); the count added %.3f s beside the layout pass (%.3f s overlapped), %.3f s in sequence; layout %.3f / %.3f s\n",
+              ro.patches, ro.countPatches, ro.secondsCount, ro.secondsCountOverlapped, rs.secondsCount, ro.secondsSimplify, rs.secondsSimplify);
 }
