@@ -244,6 +244,53 @@ TEST(EmbreeScene, ClosestBoundaryPointMatchesBruteForce) {
   EXPECT_FALSE(closed.ClosestBoundaryPoint(Vec3(0, 0, 0)).valid);
 }
 
+// Embree works in float and its ray-triangle test clamps its determinant below 1e-18: on a mesh a
+// few 1e-8 across every hit came back at a triangle corner (u = v = 0), and beyond ~1e15 rays hit
+// nothing. EmbreeScene hands Embree a copy scaled by a power of two (exact) outside
+// [kMinUnscaledDiagonal, kMaxUnscaledDiagonal]: every query must then give the unit mesh's answer
+// scaled, bit for bit (the hit faces and barycentrics equal, distances and points times the scale).
+TEST(EmbreeScene, AnswersDoNotDependOnTheMeshScale) {
+  const auto unit = testsupport::SphereWithHoles(3);  // boundaries for ClosestBoundaryPoint
+  const vcgext::EmbreeScene s1(unit);
+  ASSERT_TRUE(s1.Ok()) << s1.Error();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.3, 1.3);
+  std::vector<Vec3> pts, dirs;
+  for (int i = 0; i < 300; ++i) {
+    pts.emplace_back(U(rng), U(rng), U(rng));
+    dirs.push_back(Vec3(U(rng), U(rng), U(rng)).normalized());
+  }
+  for (int e : {-100, -60, -40, -28, 40, 50, 55}) {
+    SCOPED_TRACE("scale 2^" + std::to_string(e));
+    const double k = std::ldexp(1.0, e);
+    auto m = unit;
+    for (auto& v : m.V) v *= k;
+    const vcgext::EmbreeScene s(m);
+    ASSERT_TRUE(s.Ok()) << s.Error();
+    int hits = 0;
+    auto same = [&](const vcgext::EmbreeScene::Hit& a, const vcgext::EmbreeScene::Hit& b, const char* what) {
+      ASSERT_EQ(a.valid, b.valid) << what;
+      if (!a.valid) return;
+      ++hits;
+      EXPECT_EQ(a.face, b.face) << what;
+      EXPECT_EQ(a.u, b.u) << what;
+      EXPECT_EQ(a.v, b.v) << what;
+      EXPECT_EQ(a.t * k, b.t) << what;
+      EXPECT_EQ(a.point * k, b.point) << what;
+    };
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const Vec3 p = pts[i] * k;
+      same(s1.Intersect(pts[i], dirs[i]), s.Intersect(p, dirs[i]), "Intersect");
+      same(s1.Intersect(pts[i], dirs[i], 0.1, 0.8), s.Intersect(p, dirs[i], 0.1 * k, 0.8 * k), "Intersect [0.1, 0.8]");
+      same(s1.NearestOnLine(pts[i], dirs[i], 0.5, 0.01), s.NearestOnLine(p, dirs[i], 0.5 * k, 0.01 * k), "NearestOnLine");
+      same(s1.ClosestPoint(pts[i]), s.ClosestPoint(p), "ClosestPoint");
+      same(s1.ClosestPoint(pts[i], 0.3, int(i)), s.ClosestPoint(p, 0.3 * k, int(i)), "ClosestPoint with a hint");
+      same(s1.ClosestBoundaryPoint(pts[i]), s.ClosestBoundaryPoint(p), "ClosestBoundaryPoint");
+    }
+    EXPECT_GT(hits, 1000);
+  }
+}
+
 TEST(ImportTriangles, RejectsBadLayersAndLeavesThemUntouched) {
   vcgext::TMesh m;
   vcgext::TriData d;

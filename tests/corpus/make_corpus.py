@@ -635,6 +635,14 @@ def corpus():
               exp=expect("error", ["shape is lost"]), prec=17)
     yield off("far1e4.off", "far-from-origin", "unit icosphere centred at x = 1e4 (float keeps ~1e-3)",
               icosphere(3, 1.0, (1e4, 0, 0)), prec=17)
+    # Embree's ray-triangle test works in float with its determinant clamped below 1e-18: on a
+    # mesh a few 1e-8 across every hit came back at a corner, and the simplification refused
+    # every collapse (a cage of all the start's quads, an RMS error of 0); beyond ~1e15 no ray
+    # hit. EmbreeScene scales its float copy by a power of two: the same cage as at radius 1.
+    yield off("scale1e-9.off", "tiny-coordinates", "icosphere of radius 1e-9", icosphere(3, 1e-9), prec=17,
+              report_max={"patches": 30})
+    yield off("scale1e15.off", "huge-coordinates", "icosphere of radius 1e15 (below the 1e17 limit)",
+              icosphere(3, 1e15), prec=17, report_max={"patches": 30})
     # finite in float but beyond what Embree's rays represent (1.844e18; it aborts on them)
     yield off("scale1e20.off", "huge-coordinates", "icosphere of radius 1e20 (finite floats)",
               icosphere(2, 1e20), exp=expect("error", ["beyond 1e17|scale"]), prec=9)

@@ -614,3 +614,38 @@ TEST(QuadSimplify, SweepGuardRule) {
   EXPECT_FALSE(si::SweepKept(u, {1.5, 0.10}, 0.4));
   EXPECT_TRUE(si::SweepKept(u, {1.5, 0.10}, 0.5));
 }
+
+// A mesh and the same mesh scaled by a power of two (exact in float and double) must give the same
+// cage and fit, scaled (the Fitmaps' own scaling: Fitmaps.* and the corpus's scale1e-9.off). Before, a sphere 2^-30 across kept all its start's quads (Embree's
+// hits all came back at triangle corners: every collapse looked like a flip) with an RMS error of
+// 0, and the fit's foot points stopped at an absolute determinant of 1e-30 (16 of the fitted
+// control points differed); one 2^50 across lost every ray.
+TEST(QuadSimplify, CageAndFitDoNotDependOnTheMeshScale) {
+  const auto unit = testsupport::Icosphere(3);
+  auto run = [](const vcgext::TriData& t) {
+    vcgext::EmbreeScene scene(t);
+    std::vector<double> S, M;  // S ~ 1 / scale and M ~ scale, exactly (powers of two)
+    SyntheticFitmaps(t, S, M);
+    for (double& m : M) m *= 6;  // 30 % of the diagonal: a coarse cage
+    const auto r = vcgext::SimplifyToQuads(t, scene, S, M, vcgext::QuadSimplifyParams());
+    return std::make_pair(r, vcgext::FitCatmullClark(r.quads, t, scene));
+  };
+  const auto [r1, fit1] = run(unit);
+  ASSERT_TRUE(r1.error.empty()) << r1.error;
+  ASSERT_TRUE(fit1.error.empty()) << fit1.error;
+  ASSERT_LT(r1.patches, 200);  // a cage, not the start's 640 quads
+  for (int e : {-60, -30, 52}) {
+    SCOPED_TRACE("scale 2^" + std::to_string(e));
+    const double k = std::ldexp(1.0, e);
+    auto t = unit;
+    for (auto& v : t.V) v *= k;
+    const auto [r, fit] = run(t);
+    ASSERT_TRUE(r.error.empty()) << r.error;
+    ASSERT_TRUE(fit.error.empty()) << fit.error;
+    EXPECT_EQ(r.quads.F, r1.quads.F);
+    ASSERT_EQ(r.quads.V.size(), r1.quads.V.size());
+    for (size_t i = 0; i < r.quads.V.size(); ++i) EXPECT_EQ(r.quads.V[i], r1.quads.V[i] * k) << i;
+    ASSERT_EQ(fit.control.V.size(), fit1.control.V.size());
+    for (size_t i = 0; i < fit.control.V.size(); ++i) EXPECT_EQ(fit.control.V[i], fit1.control.V[i] * k) << i;
+  }
+}

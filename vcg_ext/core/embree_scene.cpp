@@ -11,6 +11,7 @@ namespace vcgext {
 struct BoundarySegments {
   const std::vector<Vec3>* V;
   const std::vector<std::pair<int, int>>* edges;
+  double scale;  ///< EmbreeScene::scale_ (the boxes are in Embree's frame)
 };
 
 namespace {
@@ -24,12 +25,13 @@ struct ClosestQuery {
   EmbreeScene::Hit* best;
   double bestD2;
   double slack;  ///< widens each triangle's box past the rounding of its computed closest point
+  double scale;  ///< EmbreeScene::scale_: Embree's query point and radius are in its frame
 };
 
 bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
   auto* q = static_cast<ClosestQuery*>(args->userPtr);
   const auto& f = q->mesh->F[args->primID];
-  const Vec3 p(args->query->x, args->query->y, args->query->z);
+  const Vec3 p = Vec3(args->query->x, args->query->y, args->query->z) / q->scale;  // exact: a power of two
   const Vec3 &a = q->mesh->V[f[0]], &b = q->mesh->V[f[1]], &t = q->mesh->V[f[2]];
   // Embree calls this for every triangle of a leaf whose box meets the query sphere. A triangle
   // whose own box (widened by the slack) is farther than the best distance so far cannot give a
@@ -50,7 +52,7 @@ bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
     q->best->v = v;
     q->best->point = c;
     q->best->t = std::sqrt(d2);
-    args->query->radius = float(std::sqrt(d2));
+    args->query->radius = float(std::sqrt(d2) * q->scale);
     return true;  // the query radius shrank
   }
   return false;
@@ -58,8 +60,8 @@ bool PointQueryFunc(RTCPointQueryFunctionArguments* args) {
 void SegmentBounds(const RTCBoundsFunctionArguments* args) {
   const auto* s = static_cast<const BoundarySegments*>(args->geometryUserPtr);
   const auto& e = (*s->edges)[args->primID];
-  const Vec3 lo = (*s->V)[size_t(e.first)].cwiseMin((*s->V)[size_t(e.second)]);
-  const Vec3 hi = (*s->V)[size_t(e.first)].cwiseMax((*s->V)[size_t(e.second)]);
+  const Vec3 lo = (*s->V)[size_t(e.first)].cwiseMin((*s->V)[size_t(e.second)]) * s->scale;
+  const Vec3 hi = (*s->V)[size_t(e.first)].cwiseMax((*s->V)[size_t(e.second)]) * s->scale;
   const float inf = std::numeric_limits<float>::infinity();
   RTCBounds* b = args->bounds_o;
   b->lower_x = std::nextafter(float(lo[0]), -inf), b->upper_x = std::nextafter(float(hi[0]), inf);
@@ -90,14 +92,17 @@ bool SegmentQueryFunc(RTCPointQueryFunctionArguments* args) {
   *q->best = EmbreeScene::Hit{true, std::sqrt(d2), int(args->primID), t, 0, x};
   // shrink the query sphere (around the float point), widened so that a segment as close to p
   // is still visited
-  args->query->radius = float((std::sqrt(d2) + q->offset) * (1 + 1e-6));
+  args->query->radius = float((std::sqrt(d2) + q->offset) * (1 + 1e-6) * q->segments->scale);
   return true;
 }
 }  // namespace
 
 EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
-  eps_ = 1e-7 * BBoxDiagonal(mesh_.V);
+  const double diag = BBoxDiagonal(mesh_.V);
+  eps_ = 1e-7 * diag;
   coordScale_ = LargestCoordinate(mesh_.V);
+  if (diag > 0 && std::isfinite(diag) && (diag < kMinUnscaledDiagonal || diag > kMaxUnscaledDiagonal))
+    scale_ = std::ldexp(1.0, -std::ilogb(diag));
   device_ = rtcNewDevice("threads=0");
   if (!device_) { error_ = "Embree: cannot create a device"; return; }
   rtcSetDeviceErrorFunction(device_, ErrorHandler, &error_);
@@ -114,7 +119,7 @@ EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
     return;
   }
   for (size_t i = 0; i < mesh_.V.size(); ++i)
-    for (int k = 0; k < 3; ++k) vb[3 * i + k] = float(mesh_.V[i][k]);
+    for (int k = 0; k < 3; ++k) vb[3 * i + k] = float(mesh_.V[i][k] * scale_);
   for (size_t i = 0; i < mesh_.F.size(); ++i)
     for (int k = 0; k < 3; ++k) ib[3 * i + k] = unsigned(mesh_.F[i][k]);
   rtcSetGeometryPointQueryFunction(geom, PointQueryFunc);
@@ -133,7 +138,7 @@ EmbreeScene::EmbreeScene(const TriData& m) : mesh_(m) {
 void EmbreeScene::BuildBoundaryScene() {
   boundary_ = BoundaryHalfEdges(mesh_);
   if (boundary_.empty()) return;
-  segments_ = std::make_unique<BoundarySegments>(BoundarySegments{&mesh_.V, &boundary_});
+  segments_ = std::make_unique<BoundarySegments>(BoundarySegments{&mesh_.V, &boundary_, scale_});
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(geom, unsigned(boundary_.size()));
   rtcSetGeometryUserData(geom, segments_.get());
@@ -157,10 +162,10 @@ EmbreeScene::Hit EmbreeScene::ClosestBoundaryPoint(const Vec3& p) const {
   Hit best;
   if (!boundaryScene_ || !p.allFinite()) return best;
   RTCPointQuery query;
-  query.x = float(p[0]);
-  query.y = float(p[1]);
-  query.z = float(p[2]);
-  const double offset = (p - Vec3(query.x, query.y, query.z)).norm();
+  query.x = float(p[0] * scale_);
+  query.y = float(p[1] * scale_);
+  query.z = float(p[2] * scale_);
+  const double offset = (p - Vec3(query.x, query.y, query.z) / scale_).norm();
   SegmentQuery q{segments_.get(), p, offset, &best, std::numeric_limits<double>::infinity()};
   query.radius = std::numeric_limits<float>::infinity();
   query.time = 0.f;
@@ -183,14 +188,15 @@ EmbreeScene::Hit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double
   // hits nothing (the fuzzer found Fitmaps rays with overflowing directions on degenerate input,
   // and origins beyond 1.8e18 on huge meshes: Debian's Embree asserts on them)
   const auto representable = [](const Vec3& x) { return x.allFinite() && x.cwiseAbs().maxCoeff() < 1.8e18; };
-  if (!scene_ || !representable(org) || !representable(dir) || std::isnan(tnear) || std::isnan(tfar)) return h;
+  const Vec3 o = org * scale_;  // Embree's frame
+  if (!scene_ || !representable(o) || !representable(dir) || std::isnan(tnear) || std::isnan(tfar)) return h;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
-  rh.ray.org_x = float(org[0]); rh.ray.org_y = float(org[1]); rh.ray.org_z = float(org[2]);
+  rh.ray.org_x = float(o[0]); rh.ray.org_y = float(o[1]); rh.ray.org_z = float(o[2]);
   rh.ray.dir_x = float(dir[0]); rh.ray.dir_y = float(dir[1]); rh.ray.dir_z = float(dir[2]);
-  rh.ray.tnear = float(tnear);
-  rh.ray.tfar = std::isfinite(tfar) ? float(tfar) : std::numeric_limits<float>::infinity();
+  rh.ray.tnear = float(tnear * scale_);
+  rh.ray.tfar = std::isfinite(tfar) ? float(tfar * scale_) : std::numeric_limits<float>::infinity();
   rh.ray.mask = 0xFFFFFFFFu;
   rh.ray.flags = 0;
   rh.ray.time = 0.f;
@@ -199,7 +205,7 @@ EmbreeScene::Hit EmbreeScene::Intersect(const Vec3& org, const Vec3& dir, double
   rtcIntersect1(scene_, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
   h.valid = true;
-  h.t = rh.ray.tfar;
+  h.t = rh.ray.tfar / scale_;
   h.face = int(rh.hit.primID);
   h.u = rh.hit.u;
   h.v = rh.hit.v;
@@ -265,18 +271,18 @@ EmbreeScene::Hit EmbreeScene::NearestOnLine(const Vec3& c, const Vec3& dir, doub
 
 EmbreeScene::Hit EmbreeScene::ClosestPoint(const Vec3& p, double maxDist, int hintFace) const {
   Hit best;
-  if (!scene_ || !p.allFinite() || p.cwiseAbs().maxCoeff() >= 1.8e18 || std::isnan(maxDist)) return best;
-  ClosestQuery q{&mesh_, &best, std::numeric_limits<double>::infinity(), 1e-10 * coordScale_};
+  if (!scene_ || !p.allFinite() || (p * scale_).cwiseAbs().maxCoeff() >= 1.8e18 || std::isnan(maxDist)) return best;
+  ClosestQuery q{&mesh_, &best, std::numeric_limits<double>::infinity(), 1e-10 * coordScale_, scale_};
   RTCPointQuery query;
-  query.x = float(p[0]); query.y = float(p[1]); query.z = float(p[2]);
-  query.radius = std::isfinite(maxDist) ? float(maxDist) : std::numeric_limits<float>::infinity();
+  query.x = float(p[0] * scale_); query.y = float(p[1] * scale_); query.z = float(p[2] * scale_);
+  query.radius = std::isfinite(maxDist) ? float(maxDist * scale_) : std::numeric_limits<float>::infinity();
   if (hintFace >= 0 && hintFace < int(mesh_.F.size())) {
     // an upper bound of the answer's distance, widened past float rounding: Embree's tree and
     // query point are floats (a relative 1.2e-7 of the coordinates), the callback's distances doubles
     const auto& f = mesh_.F[hintFace];
     const double d = (ClosestPointOnTriangle(p, mesh_.V[f[0]], mesh_.V[f[1]], mesh_.V[f[2]]) - p).norm();
     const double bound = d * 1.001 + 10 * eps_ + 1e-6 * (p.cwiseAbs().maxCoeff() + coordScale_);
-    if (bound < query.radius) query.radius = float(bound);
+    if (bound * scale_ < query.radius) query.radius = float(bound * scale_);
   }
   query.time = 0.f;
   RTCPointQueryContext ctx;

@@ -19,6 +19,14 @@ namespace vcgext {
 
 struct BoundarySegments;
 
+/// Bounding-box diagonals within which EmbreeScene hands Embree the coordinates as they are;
+/// outside, they are scaled by a power of two (EmbreeScene::scale_; distances and points come
+/// back in the mesh's units). Embree's ray-triangle test works in float and clamps its
+/// determinant below 1e-18 (min_rcp_input): on an icosphere 2^-27 across every hit came back at
+/// a triangle corner (u = v = 0; 2^-26 was still exact), and at 2^50 no ray hit. Inside the
+/// window (a margin on both sides) nothing changes, bit for bit.
+constexpr double kMinUnscaledDiagonal = 1.0 / 4096, kMaxUnscaledDiagonal = 1 << 24;
+
 class EmbreeScene {
  public:
   /// Builds the BVH over `m` (vertices converted to float, as Embree requires).
@@ -82,6 +90,10 @@ class EmbreeScene {
   TriData mesh_;
   double eps_ = 0;  ///< 1e-7 x bbox diagonal: rays from a point start this far behind it
   double coordScale_ = 0;  ///< largest |coordinate| (float rounding bound of the hint radius)
+  /// Embree's frame: its float copy of the mesh, ray origins and query points are these
+  /// coordinates times scale_, a power of two (exact): 1 unless the bbox diagonal lies outside
+  /// [kMinUnscaledDiagonal, kMaxUnscaledDiagonal], then the one that brings it into [1, 2).
+  double scale_ = 1;
   RTCDeviceTy* device_ = nullptr;
   RTCSceneTy* scene_ = nullptr;
   void BuildBoundaryScene();

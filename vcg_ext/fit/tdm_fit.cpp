@@ -224,7 +224,9 @@ Eigen::Vector2d FootPointUV(const LimitSurface& ls, const std::vector<Vec3>& ctr
     Eigen::Matrix2d JtJ;
     JtJ << Du.dot(Du), Du.dot(Dv), Du.dot(Dv), Dv.dot(Dv);
     const Eigen::Vector2d g2(Du.dot(d), Dv.dot(d));
-    if (!(std::abs(JtJ.determinant()) > 1e-30)) break;
+    // singular (Du, Dv parallel or zero), relative to |Du|² |Dv|² so that a mesh's scale does not
+    // decide it: the absolute 1e-30 this was stopped every foot point of a mesh 1e-9 across
+    if (!(std::abs(JtJ.determinant()) > 1e-30 * JtJ(0, 0) * JtJ(1, 1))) break;
     const Eigen::Vector2d step = JtJ.inverse() * g2;
     uv = (uv + step).cwiseMax(0.0).cwiseMin(1.0);
     if (step.norm() < 1e-6) break;
