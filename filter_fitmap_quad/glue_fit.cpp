@@ -9,6 +9,7 @@
 
 #include "filter_table.h"
 #include "glue.h"
+#include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/core/quad_cleanup.h"
 #include "vcg_ext/core/quality.h"
@@ -97,6 +98,7 @@ bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& qu
 // repairs and warnings.
 bool PrepareReference(GlueContext& ctx, MeshModel& refModel, vcgext::WorkingCopy& w) {
   w = vcgext::PrepareWorkingCopy(refModel.cm);
+  vcgext::RefuseFarSpikes(w);
   if (!w.error.empty()) return ctx.Fail("reference layer: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fit Catmull-Clark Surface: reference layer: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: reference layer: " + n);

@@ -10,6 +10,7 @@
 
 #include "filter_table.h"
 #include "glue.h"
+#include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fitmaps/fitmaps.h"
@@ -372,6 +373,7 @@ bool ApplyQuad(GlueContext& ctx) {
 
   // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
   vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(in.cm);
+  vcgext::RefuseFarSpikes(w);
   if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);

@@ -582,6 +582,14 @@ def corpus():
     for i in rnd.sample(range(len(sv_)), 20):  # outlier vertices: spikes of 30 % of the radius
         sv_[i] = mul(sv_[i], 1.3)
     yield off("scan_spikes.off", "scan", "icosphere(4) with 20 vertices pushed out 30 % (spikes)", (sv_, scan[1]))
+    # a scanner's wild point kept by the reconstruction: one vertex 1 000 diagonals away, at the tip
+    # of six needles; the quad pipeline refuses it (far_spikes.h), the Loop filters take it as it is
+    wild = list(scan[0])
+    wild[100] = add(wild[100], (2000.0, 600.0, 400.0))
+    wild_exp = dict(expect("error", ["far from the rest of the surface"]))
+    wild_exp.update({f: {"verdict": "valid", "keywords": []} for f in ("loop_refine", "loop_curvature")})
+    yield off("scan_wild_vertex.off", "scan", "icosphere(4) with one vertex flung 1 000 diagonals away (a wild point)",
+              (wild, scan[1]), exp=wild_exp)
     specks = [([add(c, (0, 0, 0)), add(c, (0.01, 0, 0)), add(c, (0.01, 0.01, 0.005)), add(c, (0, 0.01, 0))],
                [(0, 1, 2), (0, 2, 3)])
               for c in [(rnd.uniform(-1.4, 1.4), rnd.uniform(-1.4, 1.4), rnd.uniform(-1.4, 1.4)) for _ in range(100)]]

@@ -12,6 +12,7 @@
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/input_prep.h"
 
 namespace vcgext {
@@ -152,6 +153,7 @@ inline const char* kFitmapMAttr = "FitmapM";
 template <class MeshType>
 FitmapResult ComputeFitmaps(MeshType& m, const FitmapParams& p, vcg::CallBackPos* cb = nullptr) {
   WorkingCopy w = PrepareWorkingCopy(m);
+  RefuseFarSpikes(w);
   FitmapResult res;
   if (!w.error.empty()) { res.error = w.error; return res; }
   EmbreeScene scene(w.mesh);

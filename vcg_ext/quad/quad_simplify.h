@@ -31,6 +31,7 @@
 
 #include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/core/indexed_mesh.h"
+#include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/quad/tri_to_quad.h"
 
@@ -414,6 +415,7 @@ QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& 
                                    const char* sAttr, const char* mAttr) {
   QuadSimplifyResult res;
   WorkingCopy w = PrepareWorkingCopy(m);
+  RefuseFarSpikes(w);
   if (!w.error.empty()) { res.error = w.error; return res; }
   MeshType& mm = const_cast<MeshType&>(m);  // attribute lookup is non-const in vcglib; nothing is written
   auto hS = vcg::tri::Allocator<MeshType>::template FindPerVertexAttribute<float>(mm, sAttr);
