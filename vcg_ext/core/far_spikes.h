@@ -34,7 +34,8 @@ struct FarSpikes {
   double shortestEdge = 0;  ///< the shortest edge at any of them
 };
 
-/// Finds the far spikes of `m` (every vertex in a face; O(F) plus a median).
+/// Finds the far spikes of `m` (every vertex in a face): O(F), the median edge from a sample of at
+/// most ~100k faces.
 FarSpikes FindFarSpikes(const TriData& m);
 
 /// The error for a mesh whose far spikes make its bounding box more than kSpikeBoxFactor times
