@@ -11,8 +11,7 @@ namespace vcgext {
 
 FarSpikes FindFarSpikes(const TriData& m) {
   FarSpikes s;
-  s.diag = BBoxDiagonal(m.V);
-  if (m.F.empty() || !(s.diag > 0)) return s;
+  if (m.F.empty() || !(BBoxDiagonal(m.V) > 0)) return s;
   const size_t n = m.V.size();
   // the median edge from every stride-th face's three edges (an interior edge counts twice: the
   // same median), at most ~300k of them on a dense scan
@@ -20,9 +19,9 @@ FarSpikes FindFarSpikes(const TriData& m) {
   std::vector<double> edges;
   edges.reserve(3 * (m.F.size() / stride + 1));
   std::vector<double> shortest(n, std::numeric_limits<double>::infinity()), opposite(n, 0.0);
-  for (size_t i = 0; i < m.F.size(); ++i)
+  for (size_t i = 0; i < m.F.size(); ++i) {
+    const Tri& f = m.F[i];
     for (int k = 0; k < 3; ++k) {
-      const Tri& f = m.F[i];
       const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
       const double ab = (m.V[b] - m.V[a]).norm();
       if (i % stride == 0) edges.push_back(ab);
@@ -30,13 +29,16 @@ FarSpikes FindFarSpikes(const TriData& m) {
       shortest[b] = std::min(shortest[b], ab);
       opposite[c] = std::max(opposite[c], ab);  // c's opposite edge in this face
     }
+  }
   const auto mid = edges.begin() + long(edges.size() / 2);
   std::nth_element(edges.begin(), mid, edges.end());
   const double median = *mid;
   if (!(median > 0)) return s;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo, loAll = lo, hiAll = hi;
   for (size_t v = 0; v < n; ++v) {
     if (!std::isfinite(shortest[v])) continue;  // in no face
+    loAll = loAll.cwiseMin(m.V[v]);
+    hiAll = hiAll.cwiseMax(m.V[v]);
     if (shortest[v] > kSpikeEdgeFactor * median && opposite[v] <= kSpikeNeedleShare * shortest[v]) {
       if (s.first < 0) s.first = int(v);
       ++s.count;
@@ -47,6 +49,7 @@ FarSpikes FindFarSpikes(const TriData& m) {
       hi = hi.cwiseMax(m.V[v]);
     }
   }
+  s.diag = (hiAll - loAll).norm();  // of the vertices in faces
   s.diagWithout = (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0;
   return s;
 }

@@ -28,7 +28,7 @@ inline constexpr double kSpikeBoxFactor = 2;
 struct FarSpikes {
   int count = 0;            ///< vertices at the tips of needles kSpikeEdgeFactor x the median edge long
   int first = -1;           ///< the first of them (index into the mesh's V)
-  double diag = 0;          ///< the mesh's bounding-box diagonal
+  double diag = 0;          ///< the bounding-box diagonal of the vertices in faces
   double diagWithout = 0;   ///< the diagonal of the box of the other vertices (0: none left)
   double edgeFactor = 0;    ///< the longest of their shortest edges, in median edges
   double shortestEdge = 0;  ///< the shortest edge at any of them
