@@ -11,7 +11,7 @@ namespace vcgext {
 
 FarSpikes FindFarSpikes(const TriData& m) {
   FarSpikes s;
-  if (m.F.empty() || !(BBoxDiagonal(m.V) > 0)) return s;
+  if (m.F.empty()) return s;  // (a mesh of zero size has a zero median edge: no spikes below)
   const size_t n = m.V.size();
   // the median edge from every stride-th face's three edges (an interior edge counts twice: the
   // same median), at most ~300k of them on a dense scan
