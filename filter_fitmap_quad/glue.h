@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "vcg_ext/core/memory.h"
 
 namespace fitmapquad {
@@ -42,6 +44,23 @@ void SetStageTimes(CMeshO& m, const StageTimes& t);
 using StageMemory = vcgext::StageMemory;
 StageMemory GetStageMemory(CMeshO& m);
 void SetStageMemory(CMeshO& m, const StageMemory& s);
+
+/// Layer matrices (CMeshO::Tr: MeshLab's Align tool, or a Transform filter run without freezing
+/// the matrix, set it; MeshLab draws the layer through it). The filters compute in a layer's own
+/// coordinates, like MeshLab's; a layer they add carries the matrix of the layer its coordinates
+/// are in, so that it shows where that layer shows (docs/robustness.md "Layer matrices").
+Eigen::Matrix4d LayerMatrix(const MeshModel& m);
+void SetLayerMatrix(MeshModel& m, const Eigen::Matrix4d& tr);
+/// The matrix that takes `from`'s own coordinates to `to`'s (Tr_to^-1 Tr_from): what a two-layer
+/// filter applies to one layer's points to use them with the other's; the identity when the two
+/// layers have the same matrix. False when `to`'s matrix cannot be inverted.
+bool RelativeMatrix(const MeshModel& from, const MeshModel& to, Eigen::Matrix4d& rel);
+/// `p` mapped by the affine or projective matrix `m`.
+Eigen::Vector3d MapPoint(const Eigen::Matrix4d& m, const Eigen::Vector3d& p);
+/// Logs a warning when `m`'s matrix is not a similarity (a rotation times one scale, plus a
+/// translation): the filter's distances are then in the layer's own coordinates, not in the ones
+/// MeshLab draws. `filter` prefixes the message.
+void WarnIfNotSimilarity(GlueContext& ctx, const MeshModel& m, const std::string& filter);
 
 /// Default working resolutions (docs/multires.md "The rule"), in triangles: "Compute Fitmaps"
 /// runs on M'_F (the paper's §4 size, about 100K triangles; bunny00's 75k stays as it is), and

@@ -105,6 +105,21 @@ bool PrepareReference(GlueContext& ctx, MeshModel& refModel, vcgext::WorkingCopy
   return true;
 }
 
+// The control points in the reference layer's coordinates when the two layers' matrices differ
+// (the new layers then carry the reference's matrix, like the files).
+bool ControlInReferenceCoordinates(GlueContext& ctx, const MeshModel& control, const MeshModel& refModel,
+                                   vcgext::QuadData& quads) {
+  Eigen::Matrix4d rel;
+  if (!RelativeMatrix(control, refModel, rel))
+    return ctx.Fail("the reference layer's transformation matrix cannot be inverted");
+  WarnIfNotSimilarity(ctx, refModel, "Fit Catmull-Clark Surface");
+  if (rel == Eigen::Matrix4d::Identity()) return true;
+  for (auto& v : quads.V) v = MapPoint(rel, v);
+  ctx.log("Fit Catmull-Clark Surface: the control and reference layers have different transformation matrices: "
+          "the control points are fitted in the reference layer's coordinates; the new layers carry its matrix");
+  return true;
+}
+
 // The filter's parameters as FitBakeParams; fails on a value out of range.
 bool ReadFitParams(GlueContext& ctx, vcgext::FitBakeParams& p) {
   p.limitSegments = ctx.par.getInt(param::kLimitSegments);
@@ -162,8 +177,9 @@ bool WriteTexturesAndControl(GlueContext& ctx, const std::string& dir, const std
 // The fitted control layer: quads, per-wedge UVs, the displacement texture, and the times and
 // memory of the earlier stages followed by this filter's.
 MeshModel* AddFittedLayer(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r,
-                          const std::string& png, StageTimes all, StageMemory memory) {
+                          const std::string& png, StageTimes all, StageMemory memory, const Eigen::Matrix4d& tr) {
   MeshModel* fitted = ctx.md.addNewMesh("", base + " fitted", false);
+  SetLayerMatrix(*fitted, tr);
   fitted->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.fit.control, fitted->cm, &r.atlas.wedgeUV);
   AddTexture(*fitted, png);
@@ -177,8 +193,10 @@ MeshModel* AddFittedLayer(GlueContext& ctx, const QString& base, const vcgext::F
 
 // A tessellated surface as a layer, quality coloured over [-range, range]; the first surface
 // (range 0) sets range from its 1-99 % quality percentiles.
-void AddSurfaceLayer(GlueContext& ctx, const vcgext::LimitTessellation& t, const QString& name, double& range) {
+void AddSurfaceLayer(GlueContext& ctx, const vcgext::LimitTessellation& t, const QString& name,
+                     const Eigen::Matrix4d& tr, double& range) {
   MeshModel* m = ctx.md.addNewMesh("", name, false);
+  SetLayerMatrix(*m, tr);
   m->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
   vcgext::ExportTriangles(t.mesh, m->cm, t.quality.empty() ? nullptr : &t.quality);
   if (range == 0) {
@@ -191,10 +209,11 @@ void AddSurfaceLayer(GlueContext& ctx, const vcgext::LimitTessellation& t, const
 
 // Both surfaces are coloured over one symmetric range (the limit layer's 1-99 % percentiles), so
 // their colours compare: green = on the reference, red / blue = below / above it.
-void AddSurfaceLayers(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r) {
+void AddSurfaceLayers(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r,
+                      const Eigen::Matrix4d& tr) {
   double range = 0;
-  AddSurfaceLayer(ctx, r.limit, base + " limit", range);
-  AddSurfaceLayer(ctx, r.displaced, base + " displaced", range);
+  AddSurfaceLayer(ctx, r.limit, base + " limit", tr, range);
+  AddSurfaceLayer(ctx, r.displaced, base + " displaced", tr, range);
   ctx.log("Fit Catmull-Clark Surface: limit and displaced layers coloured by signed distance to the reference over [" +
           std::to_string(-range) + ", " + std::to_string(range) + "] (red below, blue above)");
 }
@@ -227,6 +246,7 @@ bool ApplyFit(GlueContext& ctx) {
   if (!ReadControlQuads(ctx, control, quads)) return false;
   vcgext::WorkingCopy w;
   if (!PrepareReference(ctx, *refModel, w)) return false;
+  if (!ControlInReferenceCoordinates(ctx, control, *refModel, quads)) return false;
   const vcgext::TriData& ref = w.mesh;
   vcgext::FitBakeParams p;
   if (!ReadFitParams(ctx, p)) return false;
@@ -248,8 +268,9 @@ bool ApplyFit(GlueContext& ctx) {
 
   // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
   const QString base = control.label();
-  MeshModel* fitted = AddFittedLayer(ctx, base, r, png, earlier, earlierMemory);
-  AddSurfaceLayers(ctx, base, r);
+  const Eigen::Matrix4d tr = LayerMatrix(*refModel);
+  MeshModel* fitted = AddFittedLayer(ctx, base, r, png, earlier, earlierMemory, tr);
+  AddSurfaceLayers(ctx, base, r, tr);
   ctx.md.setCurrentMesh(fitted->id());
   ReportFit(ctx, r, p.normalMap, dir);
   return true;

@@ -56,6 +56,7 @@ bool ApplyFitmaps(GlueContext& ctx) {
   if (!r.error.empty()) return ctx.Fail("Compute Fitmaps: " + r.error);
   for (const auto& n : r.notes) ctx.log("Compute Fitmaps: " + n);
   for (const auto& n : r.warnings) ctx.log("Warning: Compute Fitmaps: " + n);
+  WarnIfNotSimilarity(ctx, mm, "Compute Fitmaps");
   double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   SetFitmapTau(mm.cm, p.tauPercent);

@@ -25,6 +25,16 @@ void AddSurfaceParams(RichParameterList& par) {
                         "Edges')."));
 }
 
+// Every live vertex of `m` mapped by `tr` (nothing to do for the identity).
+void MapVertices(const Eigen::Matrix4d& tr, CMeshO& m) {
+  if (tr == Eigen::Matrix4d::Identity()) return;
+  for (auto& v : m.vert)
+    if (!v.IsD()) {
+      const Eigen::Vector3d p = MapPoint(tr, Eigen::Vector3d(v.P()[0], v.P()[1], v.P()[2]));
+      v.P() = vcg::Point3<Scalarm>(Scalarm(p.x()), Scalarm(p.y()), Scalarm(p.z()));
+    }
+}
+
 // Reads the surface parameters; selected face-edges of `m` become extra hard edges.
 bool ReadSurfaceParams(GlueContext& ctx, CMeshO& m, vcgext::LoopSurfaceParams& sp) {
   sp.creaseAngleDeg = ctx.par.getFloat(param::kCreaseAngle);
@@ -98,7 +108,9 @@ bool ApplyLoopRefine(GlueContext& ctx) {
   vcgext::LoopVcgReport rep = vcgext::LoopRefineMesh(net.cm, out, sp, interp, rp, ctx.cb);
   if (!rep.error.empty()) return ctx.Fail("Loop Surrogate: Refine Surface: " + rep.error);
   LogWorkingCopy(ctx, "Loop Surrogate: Refine Surface: ", rep);
+  WarnIfNotSimilarity(ctx, net, "Loop Surrogate: Refine Surface");
   MeshModel* m = ctx.md.addNewMesh("", net.label() + (interp ? " loop interpolated" : " loop refined"), true);
+  SetLayerMatrix(*m, LayerMatrix(net));
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(m->cm, out, false, true);
   UpdateBoxAndNormals(*m);
   char buf[512];
@@ -143,8 +155,15 @@ bool ApplyLoopSnap(GlueContext& ctx) {
   CMeshO copy;
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(copy, pts.cm, false, true);
   if (copy.vn == 0) return ctx.Fail("the layer to snap has no vertices");
+  // Snapped in the net's coordinates when the two layers' matrices differ, then mapped back.
+  Eigen::Matrix4d toNet, back;
+  if (!RelativeMatrix(pts, *net, toNet) || !RelativeMatrix(*net, pts, back))
+    return ctx.Fail("Loop Surrogate: Snap Points: a layer's transformation matrix cannot be inverted");
+  WarnIfNotSimilarity(ctx, *net, "Loop Surrogate: Snap Points");
+  MapVertices(toNet, copy);
   vcgext::LoopVcgReport rep = vcgext::LoopSnapVertices(copy, net->cm, sp);
   if (!rep.error.empty()) return ctx.Fail("Loop Surrogate: Snap Points: " + rep.error);
+  MapVertices(back, copy);
   LogWorkingCopy(ctx, "Loop Surrogate: Snap Points: control net: ", rep);
   size_t i = 0;
   pts.updateDataMask(MeshModel::MM_VERTQUALITY);
@@ -187,6 +206,7 @@ bool ApplyLoopCurvature(GlueContext& ctx) {
   vcgext::LoopVcgReport rep = vcgext::LoopCurvatureToQuality(copy, sp, vcgext::LoopCurvatureKind(kind));
   if (!rep.error.empty()) return ctx.Fail("Loop Surrogate: Curvature: " + rep.error);
   LogWorkingCopy(ctx, "Loop Surrogate: Curvature: ", rep);
+  WarnIfNotSimilarity(ctx, m, "Loop Surrogate: Curvature");
   m.updateDataMask(MeshModel::MM_VERTQUALITY);
   size_t i = 0;
   for (auto& v : m.cm.vert)

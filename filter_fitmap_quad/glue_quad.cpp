@@ -377,6 +377,7 @@ bool ApplyQuad(GlueContext& ctx) {
   if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);
+  WarnIfNotSimilarity(ctx, in, "Fitmap Quad Simplification");
   const vcgext::TriData& tri = w.mesh;
   vcgext::QuadData given;
   const bool useQuads = LayerQuads(ctx, in, w, p.targetPatches, given);
@@ -401,6 +402,7 @@ bool ApplyQuad(GlueContext& ctx) {
   char name[128];
   snprintf(name, sizeof name, "%s quads tau=%g%%", in.label().toStdString().c_str(), tau);
   MeshModel* out = ctx.md.addNewMesh("", name, true);
+  SetLayerMatrix(*out, LayerMatrix(in));
   out->updateDataMask(MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.quads, out->cm);
   UpdateBoxAndNormals(*out);
