@@ -85,93 +85,128 @@ bool RetryCoversAsWell(const TriData& input, const EmbreeScene& scene, const Qua
   return false;
 }
 
+// The ladder's state after a first pass r that stopped above the budget: the retry kept so far
+// and what the others cost and why they were not kept.
+class Ladder {
+ public:
+  Ladder(const TriData& input, const TriData& start, const EmbreeScene& scene, const std::vector<double>& S,
+         const std::vector<double>& M, const QuadSimplifyParams& params, Progress& prog,
+         const std::vector<Quad>* initialQuads, QuadSimplifyResult first)
+      : input_(input), start_(start), scene_(scene), S_(S), M_(M), params_(params), prog_(prog),
+        initialQuads_(initialQuads), target_(params.targetPatches), r_(std::move(first)) {}
+
+  // The rungs in their order (simplify_internal.h), then the cage kept.
+  QuadSimplifyResult Run() {
+    const double guard = params_.deviationFactor;
+    // rung 1, the same start with the guard doubled: a whole pass on the working start, first
+    // unless the first pass stopped far above the budget (kFarAboveBudget)
+    const bool farAbove = r_.patches > kFarAboveBudget * target_;
+    if (!farAbove) Attempt(start_, 2 * guard, 1, "with the thin-part guard's tolerance doubled");
+    const DecimateResult coarse = Coarser(4L * target_);
+    if (!coarse.mesh.F.empty()) {
+      Attempt(coarse.mesh, guard, 2, "from a start of 4 x the budget in triangles");
+      if (!BestReached())
+        Attempt(coarse.mesh, 2 * guard, 3, "from a start of 4 x the budget in triangles, the guard's tolerance doubled");
+    }
+    // the last rung: 2.5 N triangles, 1.25 N quads, so that the collapses only remove the last
+    // fifth (turbine.off @ 400: the 1 600-triangle start stopped at 507, flips and the guard
+    // refusing the rest; from 1 000 triangles 400 patches, 0.07 % unprojectable, RMS limit 1.11
+    // per mille)
+    const DecimateResult last = Coarser(5L * target_ / 2);
+    if (!last.mesh.F.empty())
+      Attempt(last.mesh, 2 * guard, 4, "from a start of 2.5 x the budget in triangles, the guard's tolerance doubled");
+    if (farAbove && !BestReached()) Attempt(start_, 2 * guard, 1, "with the thin-part guard's tolerance doubled");
+    return Finish();
+  }
+
+ private:
+  bool Reached(const QuadSimplifyResult& x) const { return BudgetReached(x.patches, target_); }
+  bool BestReached() const { return best_.patches > 0 && Reached(best_); }
+
+  // One retry from `from` with the guard factor `guard`; rung: its place in the ladder.
+  void Attempt(const TriData& from, double guard, int rung, const char* what) {
+    QuadSimplifyParams lp = LayoutParams(params_, target_);
+    lp.deviationFactor = guard;
+    QuadSimplifyResult g = SimplifyOnce(input_, from, scene_, S_, M_, lp, prog_.Sub(90, 100), initialQuads_);
+    rungsRun_ += char('0' + rung);
+    const QuadSimplifyResult& cur = best_.patches > 0 ? best_ : r_;
+    std::string why;
+    if (!g.error.empty() || !(std::abs(g.patches - target_) < std::abs(cur.patches - target_)) ||
+        !RetryCoversAsWell(input_, scene_, r_, g, &rFitted_, &why)) {
+      spent_ += g.secondsTotal;
+      if (!why.empty())
+        AppendMessage(notes_, std::string("a pass ") + what + " reached " + std::to_string(g.patches) +
+                                  " patches but was not kept: " + why);
+      return;
+    }
+    if (best_.patches > 0) spent_ += best_.secondsTotal;
+    g.budgetRelaxations = rung;
+    g.budgetDeviationFactor = guard;
+    g.budgetFromPatches = r_.patches;
+    g.budgetStartFaces = &from == &start_ ? 0 : int(from.F.size());
+    best_ = std::move(g);
+  }
+
+  // A start decimated to `faces` triangles (vcglib's quadric collapse, WorkingResolution); empty
+  // when the start is not much larger or the decimation stopped far above it (no valid collapse
+  // left: b9_mesh stopped at 1 958 triangles for 800, whose pairing failed and whose 5 874 split
+  // quads took 78 s per pass and ended at 5 165 patches).
+  DecimateResult Coarser(long faces) {
+    DecimateResult c;
+    if (!BestReached() && !(initialQuads_ && !initialQuads_->empty()) &&
+        long(start_.F.size()) > faces + faces / 4) {
+      WorkingResolutionParams wp;
+      wp.maxFaces = int(faces);
+      c = WorkingResolution(start_, wp);
+      spent_ += c.seconds;
+      if (!c.decimated || long(c.mesh.F.size()) > faces + faces / 2) c.mesh = TriData();
+    }
+    return c;
+  }
+
+  // The retry kept (else the first pass), with the notes, the rungs run and the time of the rest.
+  QuadSimplifyResult Finish() {
+    QuadSimplifyResult& kept = best_.patches > 0 ? best_ : r_;
+    if (!notes_.empty()) AppendMessage(kept.message, notes_);
+    kept.budgetRungsRun = rungsRun_;
+    if (best_.patches == 0) {
+      r_.secondsTotal += spent_;
+      r_.secondsBudgetRetries = spent_;
+      return std::move(r_);
+    }
+    best_.secondsBudgetRetries = r_.secondsTotal + spent_;
+    best_.secondsTotal += best_.secondsBudgetRetries;
+    return std::move(best_);
+  }
+
+  const TriData& input_;
+  const TriData& start_;
+  const EmbreeScene& scene_;
+  const std::vector<double>& S_;
+  const std::vector<double>& M_;
+  const QuadSimplifyParams& params_;
+  Progress& prog_;
+  const std::vector<Quad>* initialQuads_;
+  const int target_;
+  QuadSimplifyResult r_;                     // the first pass
+  QuadSimplifyResult best_;                  // the retry kept so far (patches 0: none)
+  double spent_ = 0;                         // seconds of the retries not kept
+  std::string notes_;                        // why retries were not kept
+  std::string rungsRun_;                     // QuadSimplifyResult::budgetRungsRun
+  FittedMeasure rFitted_{-1.0, 100.0, -1};  // the first pass's fitted measure (RetryCoversAsWell)
+};
+
 }  // namespace
 
 QuadSimplifyResult BudgetLadder(const TriData& input, const TriData& start, const EmbreeScene& scene,
                                 const std::vector<double>& S, const std::vector<double>& M,
                                 const QuadSimplifyParams& params, Progress& prog, const std::vector<Quad>* initialQuads) {
-  const int target = params.targetPatches;
-  const auto reached = [target](const QuadSimplifyResult& x) { return BudgetReached(x.patches, target); };
-  QuadSimplifyResult r = SimplifyOnce(input, start, scene, S, M, LayoutParams(params, target), prog, initialQuads);
-  if (!r.error.empty() || reached(r) || !(params.deviationFactor > 0) || !params.budgetLadder) return r;
-  QuadSimplifyResult best;  // the retry kept so far (patches 0: none)
-  double spent = 0;         // seconds of the retries not kept
-  std::string notes;        // why retries were not kept
-  std::string rungsRun;     // QuadSimplifyResult::budgetRungsRun
-  FittedMeasure rFitted{-1.0, 100.0, -1};  // the first pass's fitted measure (RetryCoversAsWell)
-  const auto bestReached = [&] { return best.patches > 0 && reached(best); };
-  // one retry from `from` with the guard factor `guard`; rung: its place in the ladder
-  auto attempt = [&](const TriData& from, double guard, int rung, const char* what) {
-    QuadSimplifyParams lp = LayoutParams(params, target);
-    lp.deviationFactor = guard;
-    QuadSimplifyResult g = SimplifyOnce(input, from, scene, S, M, lp, prog.Sub(90, 100), initialQuads);
-    rungsRun += char('0' + rung);
-    const QuadSimplifyResult& cur = best.patches > 0 ? best : r;
-    std::string why;
-    if (!g.error.empty() || !(std::abs(g.patches - target) < std::abs(cur.patches - target)) ||
-        !RetryCoversAsWell(input, scene, r, g, &rFitted, &why)) {
-      spent += g.secondsTotal;
-      if (!why.empty())
-        AppendMessage(notes, std::string("a pass ") + what + " reached " + std::to_string(g.patches) +
-                                 " patches but was not kept: " + why);
-      return;
-    }
-    if (best.patches > 0) spent += best.secondsTotal;
-    g.budgetRelaxations = rung;
-    g.budgetDeviationFactor = guard;
-    g.budgetFromPatches = r.patches;
-    g.budgetStartFaces = &from == &start ? 0 : int(from.F.size());
-    best = std::move(g);
-  };
-  // rung 1, the same start with the guard doubled: a whole pass on the working start, first unless
-  // the first pass stopped far above the budget (kFarAboveBudget)
-  const bool farAbove = r.patches > kFarAboveBudget * target;
-  const auto sameStartDoubled = [&] {
-    attempt(start, 2 * params.deviationFactor, 1, "with the thin-part guard's tolerance doubled");
-  };
-  if (!farAbove) sameStartDoubled();
-  // a start decimated to `faces` triangles (vcglib's quadric collapse, WorkingResolution); empty
-  // when the start is not much larger or the decimation stopped far above it (no valid collapse
-  // left: b9_mesh stopped at 1 958 triangles for 800, whose pairing failed and whose 5 874 split
-  // quads took 78 s per pass and ended at 5 165 patches)
-  auto coarser = [&](long faces) {
-    DecimateResult c;
-    if (!bestReached() && !(initialQuads && !initialQuads->empty()) &&
-        long(start.F.size()) > faces + faces / 4) {
-      WorkingResolutionParams wp;
-      wp.maxFaces = int(faces);
-      c = WorkingResolution(start, wp);
-      spent += c.seconds;
-      if (!c.decimated || long(c.mesh.F.size()) > faces + faces / 2) c.mesh = TriData();
-    }
-    return c;
-  };
-  const DecimateResult coarse = coarser(4L * target);
-  if (!coarse.mesh.F.empty()) {
-    attempt(coarse.mesh, params.deviationFactor, 2, "from a start of 4 x the budget in triangles");
-    if (!bestReached())
-      attempt(coarse.mesh, 2 * params.deviationFactor, 3,
-              "from a start of 4 x the budget in triangles, the guard's tolerance doubled");
-  }
-  // the last rung: 2.5 N triangles, 1.25 N quads, so that the collapses only remove the last fifth
-  // (turbine.off @ 400: the 1 600-triangle start stopped at 507, flips and the guard refusing the
-  // rest; from 1 000 triangles 400 patches, 0.07 % unprojectable, RMS limit 1.11 per mille)
-  const DecimateResult last = coarser(5L * target / 2);
-  if (!last.mesh.F.empty())
-    attempt(last.mesh, 2 * params.deviationFactor, 4,
-            "from a start of 2.5 x the budget in triangles, the guard's tolerance doubled");
-  if (farAbove && !bestReached()) sameStartDoubled();
-  QuadSimplifyResult& kept = best.patches > 0 ? best : r;
-  if (!notes.empty()) AppendMessage(kept.message, notes);
-  kept.budgetRungsRun = rungsRun;
-  if (best.patches == 0) {
-    r.secondsTotal += spent;
-    r.secondsBudgetRetries = spent;
+  QuadSimplifyResult r =
+      SimplifyOnce(input, start, scene, S, M, LayoutParams(params, params.targetPatches), prog, initialQuads);
+  if (!r.error.empty() || BudgetReached(r.patches, params.targetPatches) || !(params.deviationFactor > 0) ||
+      !params.budgetLadder)
     return r;
-  }
-  best.secondsBudgetRetries = r.secondsTotal + spent;
-  best.secondsTotal += best.secondsBudgetRetries;
-  return best;
+  return Ladder(input, start, scene, S, M, params, prog, initialQuads, std::move(r)).Run();
 }
 
 }  // namespace simplify_internal

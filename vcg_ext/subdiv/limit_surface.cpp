@@ -21,6 +21,10 @@ struct LimitSurface::Impl {
   std::vector<int> cvIdx;
   int maxCV = 0;
 
+  /// One Bfr surface per face of `refiner`, with its control-point indices; "" or an error that
+  /// counts the faces with no limit surface and names the first.
+  std::string InitSurfaces(const osd::Far::TopologyRefiner& refiner, const LimitSurfaceOptions& opt);
+
   /// The limit stencil of face f at (u,v), derivatives up to `order`, one control point at a
   /// time in increasing index order, duplicates merged (a small closed mesh can wrap a
   /// neighbourhood onto itself): visit(index, weights) with weights[0..nd) = P, Du, Dv, Duu,
@@ -281,6 +285,68 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   return {};
 }
 
+namespace {
+
+// OpenSubdiv's topology refiner of the control mesh, with the options' scheme, boundary rule and
+// infinitely sharp crease edges and corners; null when OpenSubdiv rejects the topology.
+std::unique_ptr<osd::Far::TopologyRefiner> CreateRefiner(int nV, const std::vector<int>& sizes,
+                                                         const std::vector<int>& verts, const LimitSurfaceOptions& opt) {
+  using Descriptor = osd::Far::TopologyDescriptor;
+  Descriptor desc;
+  desc.numVertices = nV;
+  desc.numFaces = int(sizes.size());
+  desc.numVertsPerFace = sizes.data();
+  desc.vertIndicesPerFace = verts.data();
+  std::vector<int> creasePairs;
+  std::vector<float> creaseW, cornerW;
+  for (const auto& c : opt.creaseEdges) { creasePairs.push_back(c.first); creasePairs.push_back(c.second); }
+  creaseW.assign(opt.creaseEdges.size(), osd::Sdc::Crease::SHARPNESS_INFINITE);
+  cornerW.assign(opt.cornerVertices.size(), osd::Sdc::Crease::SHARPNESS_INFINITE);
+  desc.numCreases = int(opt.creaseEdges.size());
+  desc.creaseVertexIndexPairs = creasePairs.data();
+  desc.creaseWeights = creaseW.data();
+  desc.numCorners = int(opt.cornerVertices.size());
+  desc.cornerVertexIndices = opt.cornerVertices.data();
+  desc.cornerWeights = cornerW.data();
+
+  osd::Sdc::Options sdc;
+  sdc.SetVtxBoundaryInterpolation(opt.sharpBoundaryCorners ? osd::Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                                           : osd::Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  sdc.SetFVarLinearInterpolation(osd::Sdc::Options::FVAR_LINEAR_ALL);
+  const osd::Sdc::SchemeType type =
+      opt.scheme == SubdivScheme::Loop ? osd::Sdc::SCHEME_LOOP : osd::Sdc::SCHEME_CATMARK;
+  using Factory = osd::Far::TopologyRefinerFactory<Descriptor>;
+  return std::unique_ptr<osd::Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(type, sdc)));
+}
+
+}  // namespace
+
+std::string LimitSurface::Impl::InitSurfaces(const osd::Far::TopologyRefiner& refiner, const LimitSurfaceOptions& opt) {
+  osd::Bfr::SurfaceFactory::Options fopt;
+  fopt.SetApproxLevelSmooth(opt.approxLevelSmooth).SetApproxLevelSharp(opt.approxLevelSharp);
+  osd::Bfr::RefinerSurfaceFactory<> factory(refiner, fopt);
+  const int nF = refiner.GetLevel(0).GetNumFaces();
+  surfaces.resize(nF);
+  cvOffs.assign(nF + 1, 0);
+  int noLimit = 0, firstNoLimit = -1;
+  for (int f = 0; f < nF; ++f) {
+    auto& s = surfaces[f];
+    if (!factory.InitVertexSurface<double>(f, &s) || !s.IsValid()) {
+      if (firstNoLimit < 0) firstNoLimit = f;
+      ++noLimit;
+      cvOffs[f + 1] = cvOffs[f];
+      continue;
+    }
+    int n = s.GetNumControlPoints();
+    maxCV = std::max(maxCV, n);
+    cvIdx.resize(cvOffs[f] + n);
+    s.GetControlPointIndices(cvIdx.data() + cvOffs[f]);
+    cvOffs[f + 1] = cvOffs[f] + n;
+  }
+  if (noLimit == 0) return {};
+  return std::to_string(noLimit) + " faces have no limit surface (first: face " + std::to_string(firstNoLimit) + ")";
+}
+
 void LimitSurface::Build(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
   numVertices_ = std::max(nV, 0);
   faceOffs_.assign(1, 0);
@@ -301,65 +367,14 @@ void LimitSurface::Build(int nV, const std::vector<int>& sizes, const std::vecto
       if (vertexCorner_[v].first < 0) vertexCorner_[v] = {int(f), k};
     }
 
-  using Descriptor = osd::Far::TopologyDescriptor;
-  Descriptor desc;
-  desc.numVertices = nV;
-  desc.numFaces = int(sizes.size());
-  desc.numVertsPerFace = sizes.data();
-  desc.vertIndicesPerFace = verts.data();
-  std::vector<int> creasePairs;
-  std::vector<float> creaseW, cornerW;
-  for (const auto& c : opt_.creaseEdges) { creasePairs.push_back(c.first); creasePairs.push_back(c.second); }
-  creaseW.assign(opt_.creaseEdges.size(), osd::Sdc::Crease::SHARPNESS_INFINITE);
-  cornerW.assign(opt_.cornerVertices.size(), osd::Sdc::Crease::SHARPNESS_INFINITE);
-  desc.numCreases = int(opt_.creaseEdges.size());
-  desc.creaseVertexIndexPairs = creasePairs.data();
-  desc.creaseWeights = creaseW.data();
-  desc.numCorners = int(opt_.cornerVertices.size());
-  desc.cornerVertexIndices = opt_.cornerVertices.data();
-  desc.cornerWeights = cornerW.data();
-
-  osd::Sdc::Options sdc;
-  sdc.SetVtxBoundaryInterpolation(opt_.sharpBoundaryCorners ? osd::Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                                            : osd::Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-  sdc.SetFVarLinearInterpolation(osd::Sdc::Options::FVAR_LINEAR_ALL);
-  const osd::Sdc::SchemeType type =
-      opt_.scheme == SubdivScheme::Loop ? osd::Sdc::SCHEME_LOOP : osd::Sdc::SCHEME_CATMARK;
-  using Factory = osd::Far::TopologyRefinerFactory<Descriptor>;
-  std::unique_ptr<osd::Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(type, sdc)));
+  const std::unique_ptr<osd::Far::TopologyRefiner> refiner = CreateRefiner(nV, sizes, verts, opt_);
   if (!refiner) {
     error_ = "OpenSubdiv rejected the control mesh topology";
     return;
   }
-
-  osd::Bfr::SurfaceFactory::Options fopt;
-  fopt.SetApproxLevelSmooth(opt_.approxLevelSmooth).SetApproxLevelSharp(opt_.approxLevelSharp);
-  osd::Bfr::RefinerSurfaceFactory<> factory(*refiner, fopt);
-
   auto impl = std::make_unique<Impl>();
-  const int nF = int(sizes.size());
-  impl->surfaces.resize(nF);
-  impl->cvOffs.assign(nF + 1, 0);
-  int noLimit = 0, firstNoLimit = -1;
-  for (int f = 0; f < nF; ++f) {
-    auto& s = impl->surfaces[f];
-    if (!factory.InitVertexSurface<double>(f, &s) || !s.IsValid()) {
-      if (firstNoLimit < 0) firstNoLimit = f;
-      ++noLimit;
-      impl->cvOffs[f + 1] = impl->cvOffs[f];
-      continue;
-    }
-    int n = s.GetNumControlPoints();
-    impl->maxCV = std::max(impl->maxCV, n);
-    impl->cvIdx.resize(impl->cvOffs[f] + n);
-    s.GetControlPointIndices(impl->cvIdx.data() + impl->cvOffs[f]);
-    impl->cvOffs[f + 1] = impl->cvOffs[f] + n;
-  }
-  if (noLimit) {
-    error_ = std::to_string(noLimit) + " faces have no limit surface (first: face " + std::to_string(firstNoLimit) + ")";
-    return;
-  }
-  impl_ = std::move(impl);
+  error_ = impl->InitSurfaces(*refiner, opt_);
+  if (error_.empty()) impl_ = std::move(impl);
 }
 
 bool LimitSurface::FaceIsRegular(int face) const {
