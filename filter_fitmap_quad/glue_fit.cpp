@@ -97,8 +97,7 @@ bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& qu
 // The reference's working copy (input_prep.h): stray vertices are no surface to fit. Logs its
 // repairs and warnings.
 bool PrepareReference(GlueContext& ctx, MeshModel& refModel, vcgext::WorkingCopy& w) {
-  w = vcgext::PrepareWorkingCopy(refModel.cm);
-  vcgext::RefuseFarSpikes(w);
+  w = vcgext::PrepareQuadPipelineCopy(refModel.cm);
   if (!w.error.empty()) return ctx.Fail("reference layer: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fit Catmull-Clark Surface: reference layer: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fit Catmull-Clark Surface: reference layer: " + n);

@@ -372,8 +372,7 @@ bool ApplyQuad(GlueContext& ctx) {
             "layout): one layout");
 
   // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
-  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(in.cm);
-  vcgext::RefuseFarSpikes(w);
+  vcgext::WorkingCopy w = vcgext::PrepareQuadPipelineCopy(in.cm);
   if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);

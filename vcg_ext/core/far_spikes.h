@@ -48,4 +48,12 @@ std::string FarSpikesError(const TriData& m, const std::vector<int>* vertexOf = 
 /// filters take a spiky net as it is: their results are local.
 void RefuseFarSpikes(WorkingCopy& w);
 
+/// A layer's working copy for the quad pipeline's filters: PrepareWorkingCopy, then RefuseFarSpikes.
+template <class MeshType>
+WorkingCopy PrepareQuadPipelineCopy(const MeshType& m) {
+  WorkingCopy w = PrepareWorkingCopy(m);
+  RefuseFarSpikes(w);
+  return w;
+}
+
 }  // namespace vcgext

@@ -152,8 +152,7 @@ inline const char* kFitmapMAttr = "FitmapM";
 /// working copy.
 template <class MeshType>
 FitmapResult ComputeFitmaps(MeshType& m, const FitmapParams& p, vcg::CallBackPos* cb = nullptr) {
-  WorkingCopy w = PrepareWorkingCopy(m);
-  RefuseFarSpikes(w);
+  WorkingCopy w = PrepareQuadPipelineCopy(m);
   FitmapResult res;
   if (!w.error.empty()) { res.error = w.error; return res; }
   EmbreeScene scene(w.mesh);

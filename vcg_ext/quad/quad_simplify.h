@@ -414,8 +414,7 @@ template <class MeshType>
 QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& p, vcg::CallBackPos* cb,
                                    const char* sAttr, const char* mAttr) {
   QuadSimplifyResult res;
-  WorkingCopy w = PrepareWorkingCopy(m);
-  RefuseFarSpikes(w);
+  WorkingCopy w = PrepareQuadPipelineCopy(m);
   if (!w.error.empty()) { res.error = w.error; return res; }
   MeshType& mm = const_cast<MeshType&>(m);  // attribute lookup is non-const in vcglib; nothing is written
   auto hS = vcg::tri::Allocator<MeshType>::template FindPerVertexAttribute<float>(mm, sAttr);
