@@ -314,11 +314,11 @@ void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
 
 // The log lines and returned values of a simplification (r, for the parameters p, on `tri`).
 void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
-                 const vcgext::TriData& tri, std::chrono::steady_clock::time_point t0) {
+                 const vcgext::TriData& tri, const vcgext::EmbreeScene& scene, std::chrono::steady_clock::time_point t0) {
   LogQuadSummary(ctx, r, t0);
   LogBudgetRetries(ctx, r, p);
   for (const std::string& w : {vcgext::DebrisWarning(r.quads, vcgext::BBoxDiagonal(tri.V)),
-                               vcgext::HolesWarning(tri, r.quads)})
+                               vcgext::HolesWarning(tri, r.quads), vcgext::DoubledWallWarning(tri, scene, r.quads)})
     if (!w.empty()) ctx.log("Warning: Fitmap Quad Simplification: " + w);
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);
@@ -419,7 +419,7 @@ bool ApplyQuad(GlueContext& ctx) {
   memory.push_back({"quad_simplification", vcgext::StagePeakMemoryMb()});
   SetStageMemory(out->cm, memory);
 
-  ReportQuads(ctx, r, p, tri, t0);
+  ReportQuads(ctx, r, p, tri, scene, t0);
   return true;
 }
 

@@ -111,3 +111,53 @@ TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
   AddBox(box, Vec3::Zero(), 1.0);
   EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(30), box), "");
 }
+
+namespace {
+vcgext::TriData Merged(vcgext::TriData a, const vcgext::TriData& b) {
+  const int n = int(a.V.size());
+  a.V.insert(a.V.end(), b.V.begin(), b.V.end());
+  for (auto f : b.F) a.F.push_back({f[0] + n, f[1] + n, f[2] + n});
+  return a;
+}
+}  // namespace
+
+// A doubled wall: two nested icospheres 0.2 % of the radius apart (the corpus's scan_double.off)
+// face the same way everywhere; a single sphere, a thin closed plate 0.01 thick (its two sides
+// face each other), two intersecting spheres and a sphere inside another at half its radius (50
+// times the reach) do not. Brute check of the area share: every triangle's centroid of the inner
+// sphere sees the outer one.
+TEST(ScanArtifacts, DoubledWallIsFoundAndWarnedAbout) {
+  using vcgext::TriData;
+  const TriData s = testsupport::Icosphere(4);
+  const TriData doubled = Merged(s, testsupport::Icosphere(4, 1.002));
+  const vcgext::EmbreeScene ds(doubled);
+  const vcgext::DoubledWall w = vcgext::FindDoubledWall(doubled, ds);
+  EXPECT_GT(w.areaPercent, 99.9);
+  EXPECT_GT(w.medianDistance, 0.0015);  // 0.002 between the spheres, their facets 2e-3 flatter
+  EXPECT_LT(w.medianDistance, 0.003);
+  QuadData cage;
+  AddBox(cage, Vec3::Zero(), 1.0);
+  const std::string msg = vcgext::DoubledWallWarning(doubled, ds, cage);
+  EXPECT_NE(msg.find("100 % of the input's area has a second sheet facing the same way"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("the cage has 6"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("Screened Poisson"), std::string::npos) << msg;
+
+  TriData plate = s, apart = Merged(s, testsupport::Icosphere(4)), inside = Merged(s, testsupport::Icosphere(4, 0.5));
+  for (auto& v : plate.V) v.z() *= 0.005;
+  for (size_t i = s.V.size(); i < apart.V.size(); ++i) apart.V[i].x() += 1.5;
+  for (const TriData* t : std::vector<const TriData*>{&s, &plate, &apart, &inside}) {
+    const vcgext::EmbreeScene sc(*t);
+    EXPECT_EQ(vcgext::FindDoubledWall(*t, sc).areaPercent, 0.0);
+    EXPECT_EQ(vcgext::DoubledWallWarning(*t, sc, cage), "");
+  }
+  // a copy of a quarter of the sphere (a region scanned twice): about a fifth of the area
+  TriData cap;
+  cap.V = testsupport::Icosphere(4, 1.002).V;
+  for (const auto& f : s.F)
+    if (s.V[size_t(f[0])].z() > 0.5) cap.F.push_back(f);
+  const TriData part = Merged(s, cap);
+  const vcgext::EmbreeScene ps(part);
+  const double capShare = 100.0 * double(2 * cap.F.size()) / double(part.F.size());
+  EXPECT_NEAR(vcgext::FindDoubledWall(part, ps).areaPercent, capShare, 2.0);
+  EXPECT_NE(vcgext::DoubledWallWarning(part, ps, cage), "");
+}

@@ -1,5 +1,5 @@
 /// \file scan_artifacts.cpp
-/// Debris and small holes of a raw scan, and what they cost the cage (scan_artifacts.h).
+/// Debris, small holes and doubled walls of a raw scan, and what they cost the cage (scan_artifacts.h).
 #include "vcg_ext/quad/scan_artifacts.h"
 
 #include "vcg_ext/core/union_find.h"
@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 namespace vcgext {
 
@@ -128,6 +131,65 @@ std::string HolesWarning(const TriData& input, const QuadData& cage) {
                 "in a scan, close them first: Filters > Remeshing, Simplification and Reconstruction > Close Holes "
                 "(PyMeshLab: meshing_close_holes)",
                 h.small, h.holes, 100 * patchSide / BBoxDiagonal(input.V), bordering, cage.F.size());
+  return buf;
+}
+
+DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene) {
+  DoubledWall w;
+  const long nF = long(input.F.size());
+  if (nF == 0 || !scene.Ok()) return w;
+  const long stride = (nF + kDoubledWallSamples - 1) / kDoubledWallSamples;
+  const long n = (nF + stride - 1) / stride;
+  const double diag = BBoxDiagonal(input.V), reach = kDoubledWallDistancePercent / 100.0 * diag;
+  std::vector<double> area(size_t(n), 0.0), dist(size_t(n), -1.0);  // dist < 0: no second sheet
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long i = 0; i < n; ++i) {
+    const Tri& f = input.F[size_t(i * stride)];
+    const Vec3 &a = input.V[size_t(f[0])], &b = input.V[size_t(f[1])], &c = input.V[size_t(f[2])];
+    const Vec3 cr = (b - a).cross(c - a);
+    const double len = cr.norm();
+    if (!(len > 0)) continue;
+    area[size_t(i)] = 0.5 * len;
+    const Vec3 nrm = cr / len, o = (a + b + c) / 3.0;
+    for (double side : {1.0, -1.0}) {
+      // from just off the triangle itself, so that it is not its own hit
+      const EmbreeScene::Hit h = scene.Intersect(o, side * nrm, 1e-6 * diag, reach);
+      if (!h.valid || h.face == int(i * stride)) continue;
+      const Tri& g = input.F[size_t(h.face)];
+      const Vec3 gn = (input.V[size_t(g[1])] - input.V[size_t(g[0])]).cross(input.V[size_t(g[2])] - input.V[size_t(g[0])]);
+      if (gn.norm() > 0 && nrm.dot(gn.normalized()) > kDoubledWallCosine &&
+          (dist[size_t(i)] < 0 || std::abs(h.t) < dist[size_t(i)]))
+        dist[size_t(i)] = std::abs(h.t);
+    }
+  }
+  double total = 0, doubled = 0;
+  std::vector<double> d;
+  for (long i = 0; i < n; ++i) {
+    total += area[size_t(i)];
+    if (dist[size_t(i)] >= 0 && area[size_t(i)] > 0) {
+      doubled += area[size_t(i)];
+      d.push_back(dist[size_t(i)]);
+    }
+  }
+  w.areaPercent = total > 0 ? 100.0 * doubled / total : 0.0;
+  if (!d.empty()) {
+    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+    w.medianDistance = d[d.size() / 2];
+  }
+  return w;
+}
+
+std::string DoubledWallWarning(const TriData& input, const EmbreeScene& scene, const QuadData& cage) {
+  const DoubledWall w = FindDoubledWall(input, scene);
+  if (w.areaPercent < kDoubledWallAreaPercent) return {};
+  char buf[700];
+  std::snprintf(buf, sizeof buf,
+                "%.0f %% of the input's area has a second sheet facing the same way %.3g %% of the diagonal away "
+                "(median): a doubled wall, as two scans of one surface left unmerged make; each sheet gets patches "
+                "of its own (the cage has %zu) and the projections can land on the wrong sheet. To fit one "
+                "surface, rebuild it from both first: Filters > Remeshing, Simplification and Reconstruction > "
+                "Surface Reconstruction: Screened Poisson (PyMeshLab: generate_surface_reconstruction_screened_poisson)",
+                w.areaPercent, 100 * w.medianDistance / BBoxDiagonal(input.V), cage.F.size());
   return buf;
 }
 
