@@ -39,6 +39,7 @@
 #include "vcg_ext/core/mesh_types.h"
 #include "vcg_ext/fitmaps/fitmaps.h"
 #include "vcg_ext/quad/quad_mesh.h"
+#include "vcg_ext/quad/scan_artifacts.h"
 #include "vcg_ext/quad/tri_to_quad.h"
 
 namespace {
@@ -271,6 +272,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const vcgext::FitmapParams p = DecodeParams(in, flags, int(all.V.size()));
         vcgext::EmbreeScene scene(all);
         CheckFitmaps(vcgext::ComputeFitmaps(all, scene, p), all.V.size());
+        // the doubled-wall measure on the same raw import (degenerate faces kept)
+        const vcgext::DoubledWall d = vcgext::FindDoubledWall(all, scene);
+        REQUIRE(d.areaPercent >= 0 && d.areaPercent <= 100 && d.medianDistance >= 0 && std::isfinite(d.medianDistance),
+                "doubled wall: %g %% at %g", d.areaPercent, d.medianDistance);
       }
     } else {
       const vcgext::FitmapParams p = DecodeParams(in, flags, int(w.mesh.V.size()));

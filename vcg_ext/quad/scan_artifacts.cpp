@@ -171,7 +171,7 @@ DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene) {
       d.push_back(dist[size_t(i)]);
     }
   }
-  w.areaPercent = total > 0 ? 100.0 * doubled / total : 0.0;
+  w.areaPercent = total > 0 ? 100.0 * (doubled / total) : 0.0;  // (a share first: at most 1, so at most 100)
   if (!d.empty()) {
     std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
     w.medianDistance = d[d.size() / 2];
