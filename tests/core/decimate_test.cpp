@@ -313,3 +313,24 @@ TEST(StartMesh, RemeshedConeApexLosesItsValence) {
   EXPECT_LT(s.work.mesh.F.size(), 4000u);
   EXPECT_EQ(Euler(s.work.mesh), 1);  // a disk
 }
+
+// vcglib's quadric collapse depends on the unit (an absolute epsilon against errors scaled by
+// 1e8 / diag^6): fandisk.off x 2^-14 or x 2^10 (exact) decimated to other triangles, and the
+// cage moved (495 patches for 430). WorkingResolution decimates a copy at a power-of-two scale with
+// a diagonal in [1.25, 2.5): an input scaled by 2^k gives its decimation scaled by 2^k, bit for bit.
+TEST(WorkingResolution, DecimationDoesNotDependOnTheUnit) {
+  const vcgext::TriData m = testsupport::LoadSample("fandisk.off");
+  vcgext::WorkingResolutionParams p;
+  p.maxFaces = 8000;
+  const vcgext::DecimateResult a = vcgext::WorkingResolution(m, p);
+  ASSERT_TRUE(a.decimated);
+  for (int k : {-14, -3, 10}) {
+    vcgext::TriData s = m;
+    for (auto& v : s.V) v *= std::ldexp(1.0, k);
+    const vcgext::DecimateResult b = vcgext::WorkingResolution(s, p);
+    ASSERT_TRUE(b.mesh.F == a.mesh.F) << "scale 2^" << k;
+    ASSERT_EQ(b.mesh.V.size(), a.mesh.V.size());
+    for (size_t i = 0; i < a.mesh.V.size(); ++i)
+      ASSERT_TRUE(b.mesh.V[i] == a.mesh.V[i] * std::ldexp(1.0, k)) << "scale 2^" << k << ", vertex " << i;
+  }
+}
