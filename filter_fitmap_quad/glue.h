@@ -50,13 +50,12 @@ void SetStageMemory(CMeshO& m, const StageMemory& s);
 /// coordinates, like MeshLab's; a layer they add carries the matrix of the layer its coordinates
 /// are in, so that it shows where that layer shows (docs/robustness.md "Layer matrices").
 Eigen::Matrix4d LayerMatrix(const MeshModel& m);
-void SetLayerMatrix(MeshModel& m, const Eigen::Matrix4d& tr);
+/// `tr` in the layer's matrix type (Matrix44m: float in MeshLab 2020.09, double in 2022.02+).
+Matrix44m VcgMatrix(const Eigen::Matrix4d& tr);
 /// The matrix that takes `from`'s own coordinates to `to`'s (Tr_to^-1 Tr_from): what a two-layer
 /// filter applies to one layer's points to use them with the other's; the identity when the two
 /// layers have the same matrix. False when `to`'s matrix cannot be inverted.
 bool RelativeMatrix(const MeshModel& from, const MeshModel& to, Eigen::Matrix4d& rel);
-/// `p` mapped by the affine or projective matrix `m`.
-Eigen::Vector3d MapPoint(const Eigen::Matrix4d& m, const Eigen::Vector3d& p);
 /// Logs a warning when `m`'s matrix is not a similarity (a rotation times one scale, plus a
 /// translation): the filter's distances are then in the layer's own coordinates, not in the ones
 /// MeshLab draws. `filter` prefixes the message.

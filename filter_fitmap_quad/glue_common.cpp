@@ -1,7 +1,6 @@
 // Helpers shared by the glue files.
 #include "glue.h"
 
-#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 namespace fitmapquad {
@@ -47,9 +46,11 @@ Eigen::Matrix4d LayerMatrix(const MeshModel& m) {
   return tr;
 }
 
-void SetLayerMatrix(MeshModel& m, const Eigen::Matrix4d& tr) {
+Matrix44m VcgMatrix(const Eigen::Matrix4d& tr) {
+  Matrix44m m;
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) m.cm.Tr.ElementAt(i, j) = decltype(m.cm.Tr)::ScalarType(tr(i, j));
+    for (int j = 0; j < 4; ++j) m.ElementAt(i, j) = Matrix44m::ScalarType(tr(i, j));
+  return m;
 }
 
 bool RelativeMatrix(const MeshModel& from, const MeshModel& to, Eigen::Matrix4d& rel) {
@@ -60,11 +61,6 @@ bool RelativeMatrix(const MeshModel& from, const MeshModel& to, Eigen::Matrix4d&
   if (!lu.isInvertible()) return false;
   rel = lu.inverse() * a;
   return true;
-}
-
-Eigen::Vector3d MapPoint(const Eigen::Matrix4d& m, const Eigen::Vector3d& p) {
-  const Eigen::Vector4d q = m * p.homogeneous();
-  return q.head<3>() / q(3);
 }
 
 void WarnIfNotSimilarity(GlueContext& ctx, const MeshModel& m, const std::string& filter) {

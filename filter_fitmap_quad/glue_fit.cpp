@@ -7,6 +7,8 @@
 #include <QDir>
 #include <QFileInfo>
 
+#include <Eigen/Geometry>
+
 #include "filter_table.h"
 #include "glue.h"
 #include "vcg_ext/core/far_spikes.h"
@@ -113,7 +115,7 @@ bool ControlInReferenceCoordinates(GlueContext& ctx, const MeshModel& control, c
     return ctx.Fail("the reference layer's transformation matrix cannot be inverted");
   WarnIfNotSimilarity(ctx, refModel, "Fit Catmull-Clark Surface");
   if (rel == Eigen::Matrix4d::Identity()) return true;
-  for (auto& v : quads.V) v = MapPoint(rel, v);
+  for (auto& v : quads.V) v = (rel * v.homogeneous()).hnormalized();
   ctx.log("Fit Catmull-Clark Surface: the control and reference layers have different transformation matrices: "
           "the control points are fitted in the reference layer's coordinates; the new layers carry its matrix");
   return true;
@@ -176,9 +178,9 @@ bool WriteTexturesAndControl(GlueContext& ctx, const std::string& dir, const std
 // The fitted control layer: quads, per-wedge UVs, the displacement texture, and the times and
 // memory of the earlier stages followed by this filter's.
 MeshModel* AddFittedLayer(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r,
-                          const std::string& png, StageTimes all, StageMemory memory, const Eigen::Matrix4d& tr) {
+                          const std::string& png, StageTimes all, StageMemory memory, const Matrix44m& tr) {
   MeshModel* fitted = ctx.md.addNewMesh("", base + " fitted", false);
-  SetLayerMatrix(*fitted, tr);
+  fitted->cm.Tr = tr;
   fitted->updateDataMask(MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.fit.control, fitted->cm, &r.atlas.wedgeUV);
   AddTexture(*fitted, png);
@@ -193,9 +195,9 @@ MeshModel* AddFittedLayer(GlueContext& ctx, const QString& base, const vcgext::F
 // A tessellated surface as a layer, quality coloured over [-range, range]; the first surface
 // (range 0) sets range from its 1-99 % quality percentiles.
 void AddSurfaceLayer(GlueContext& ctx, const vcgext::LimitTessellation& t, const QString& name,
-                     const Eigen::Matrix4d& tr, double& range) {
+                     const Matrix44m& tr, double& range) {
   MeshModel* m = ctx.md.addNewMesh("", name, false);
-  SetLayerMatrix(*m, tr);
+  m->cm.Tr = tr;
   m->updateDataMask(MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR);
   vcgext::ExportTriangles(t.mesh, m->cm, t.quality.empty() ? nullptr : &t.quality);
   if (range == 0) {
@@ -209,7 +211,7 @@ void AddSurfaceLayer(GlueContext& ctx, const vcgext::LimitTessellation& t, const
 // Both surfaces are coloured over one symmetric range (the limit layer's 1-99 % percentiles), so
 // their colours compare: green = on the reference, red / blue = below / above it.
 void AddSurfaceLayers(GlueContext& ctx, const QString& base, const vcgext::FitBakeResult& r,
-                      const Eigen::Matrix4d& tr) {
+                      const Matrix44m& tr) {
   double range = 0;
   AddSurfaceLayer(ctx, r.limit, base + " limit", tr, range);
   AddSurfaceLayer(ctx, r.displaced, base + " displaced", tr, range);
@@ -267,7 +269,7 @@ bool ApplyFit(GlueContext& ctx) {
 
   // Layers: fitted control (quads, per-wedge UVs, displacement texture), limit, displaced.
   const QString base = control.label();
-  const Eigen::Matrix4d tr = LayerMatrix(*refModel);
+  const Matrix44m tr = refModel->cm.Tr;
   MeshModel* fitted = AddFittedLayer(ctx, base, r, png, earlier, earlierMemory, tr);
   AddSurfaceLayers(ctx, base, r, tr);
   ctx.md.setCurrentMesh(fitted->id());

@@ -7,6 +7,8 @@
 
 #include "filter_table.h"
 #include "glue.h"
+// (after glue.h: vcglib's algorithms need the mesh types MeshLab's headers bring)
+#include <vcg/complex/algorithms/update/position.h>
 #include "vcg_ext/core/quality.h"
 #include "vcg_ext/loop/loop_vcg.h"
 
@@ -25,14 +27,10 @@ void AddSurfaceParams(RichParameterList& par) {
                         "Edges')."));
 }
 
-// Every live vertex of `m` mapped by `tr` (nothing to do for the identity).
+// Every live vertex of `m` mapped by `tr` (vcglib's, as MeshLab's Freeze Matrix; nothing to do
+// for the identity).
 void MapVertices(const Eigen::Matrix4d& tr, CMeshO& m) {
-  if (tr == Eigen::Matrix4d::Identity()) return;
-  for (auto& v : m.vert)
-    if (!v.IsD()) {
-      const Eigen::Vector3d p = MapPoint(tr, Eigen::Vector3d(v.P()[0], v.P()[1], v.P()[2]));
-      v.P() = vcg::Point3<Scalarm>(Scalarm(p.x()), Scalarm(p.y()), Scalarm(p.z()));
-    }
+  if (tr != Eigen::Matrix4d::Identity()) vcg::tri::UpdatePosition<CMeshO>::Matrix(m, VcgMatrix(tr), false);
 }
 
 // Reads the surface parameters; selected face-edges of `m` become extra hard edges.
@@ -110,7 +108,7 @@ bool ApplyLoopRefine(GlueContext& ctx) {
   LogWorkingCopy(ctx, "Loop Surrogate: Refine Surface: ", rep);
   WarnIfNotSimilarity(ctx, net, "Loop Surrogate: Refine Surface");
   MeshModel* m = ctx.md.addNewMesh("", net.label() + (interp ? " loop interpolated" : " loop refined"), true);
-  SetLayerMatrix(*m, LayerMatrix(net));
+  m->cm.Tr = net.cm.Tr;
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(m->cm, out, false, true);
   UpdateBoxAndNormals(*m);
   char buf[512];

@@ -401,7 +401,7 @@ bool ApplyQuad(GlueContext& ctx) {
   char name[128];
   snprintf(name, sizeof name, "%s quads tau=%g%%", in.label().toStdString().c_str(), tau);
   MeshModel* out = ctx.md.addNewMesh("", name, true);
-  SetLayerMatrix(*out, LayerMatrix(in));
+  out->cm.Tr = in.cm.Tr;
   out->updateDataMask(MeshModel::MM_POLYGONAL);
   vcgext::ExportQuads(r.quads, out->cm);
   UpdateBoxAndNormals(*out);
