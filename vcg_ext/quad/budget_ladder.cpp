@@ -101,7 +101,7 @@ class Ladder {
     // rung 1, the same start with the guard doubled: a whole pass on the working start, first
     // unless the first pass stopped far above the budget (kFarAboveBudget)
     const bool farAbove = r_.patches > kFarAboveBudget * target_;
-    if (!farAbove) Attempt(start_, 2 * guard, 1, "with the thin-part guard's tolerance doubled");
+    if (!farAbove) SameStartDoubled();
     const DecimateResult coarse = Coarser(4L * target_);
     if (!coarse.mesh.F.empty()) {
       Attempt(coarse.mesh, guard, 2, "from a start of 4 x the budget in triangles");
@@ -115,13 +115,16 @@ class Ladder {
     const DecimateResult last = Coarser(5L * target_ / 2);
     if (!last.mesh.F.empty())
       Attempt(last.mesh, 2 * guard, 4, "from a start of 2.5 x the budget in triangles, the guard's tolerance doubled");
-    if (farAbove && !BestReached()) Attempt(start_, 2 * guard, 1, "with the thin-part guard's tolerance doubled");
+    if (farAbove && !BestReached()) SameStartDoubled();
     return Finish();
   }
 
  private:
   bool Reached(const QuadSimplifyResult& x) const { return BudgetReached(x.patches, target_); }
   bool BestReached() const { return best_.patches > 0 && Reached(best_); }
+
+  // Rung 1: the same start with the guard's tolerance doubled.
+  void SameStartDoubled() { Attempt(start_, 2 * params_.deviationFactor, 1, "with the thin-part guard's tolerance doubled"); }
 
   // One retry from `from` with the guard factor `guard`; rung: its place in the ladder.
   void Attempt(const TriData& from, double guard, int rung, const char* what) {

@@ -140,7 +140,7 @@ DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene) {
   if (nF == 0 || !scene.Ok()) return w;
   const long stride = (nF + kDoubledWallSamples - 1) / kDoubledWallSamples;
   const long n = (nF + stride - 1) / stride;
-  const double diag = BBoxDiagonal(input.V), reach = kDoubledWallDistancePercent / 100.0 * diag;
+  const double diag = w.diagonal = BBoxDiagonal(input.V), reach = kDoubledWallDistancePercent / 100.0 * diag;
   std::vector<double> area(size_t(n), 0.0), dist(size_t(n), -1.0);  // dist < 0: no second sheet
 #pragma omp parallel for schedule(dynamic, 256)
   for (long i = 0; i < n; ++i) {
@@ -189,7 +189,7 @@ std::string DoubledWallWarning(const TriData& input, const EmbreeScene& scene, c
                 "of its own (the cage has %zu) and the projections can land on the wrong sheet. To fit one "
                 "surface, rebuild it from both first: Filters > Remeshing, Simplification and Reconstruction > "
                 "Surface Reconstruction: Screened Poisson (PyMeshLab: generate_surface_reconstruction_screened_poisson)",
-                w.areaPercent, 100 * w.medianDistance / BBoxDiagonal(input.V), cage.F.size());
+                w.areaPercent, 100 * w.medianDistance / w.diagonal, cage.F.size());
   return buf;
 }
 

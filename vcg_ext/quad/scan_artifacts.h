@@ -79,6 +79,7 @@ inline constexpr long kDoubledWallSamples = 200000;
 struct DoubledWall {
   double areaPercent = 0;
   double medianDistance = 0;
+  double diagonal = 0;  ///< the input's bounding-box diagonal (what the distances are measured against)
 };
 DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene);
 
