@@ -14,10 +14,19 @@
 
 namespace {
 
+// meshlab_scripts/<script> with the filter `filterXml` run first, written to the output folder as
+// `name`; returns its path.
+std::string ScriptWithFirstFilter(const std::string& script, const std::string& filterXml, const std::string& name) {
+  const std::string s = std::regex_replace(e2e::Slurp(e2e::Script(script)), std::regex("<FilterScript>\n"),
+                                           "<FilterScript>\n" + filterXml);
+  const std::string path = e2e::OutPath(name);
+  std::ofstream(path) << s;
+  return path;
+}
+
 // fitmaps.mlx preceded by MeshLab's "Transform: Scale, Normalize" by (sx, sy, sz) about the
 // origin, its matrix not frozen.
 std::string ScaledFitmapsScript(const std::string& name, const char* sx, const char* sy, const char* sz) {
-  std::string s = e2e::Slurp(e2e::Script("fitmaps.mlx"));
   const std::string scale = std::string(" <filter name=\"Transform: Scale, Normalize\">\n") +
                             "  <Param type=\"RichFloat\" value=\"" + sx + "\" name=\"axisX\"/>\n" +
                             "  <Param type=\"RichFloat\" value=\"" + sy + "\" name=\"axisY\"/>\n" +
@@ -29,16 +38,12 @@ std::string ScaledFitmapsScript(const std::string& name, const char* sx, const c
                             "  <Param type=\"RichBool\" value=\"false\" name=\"unitFlag\"/>\n" +
                             "  <Param type=\"RichBool\" value=\"false\" name=\"Freeze\"/>\n" +
                             "  <Param type=\"RichBool\" value=\"false\" name=\"allLayers\"/>\n" + " </filter>\n";
-  s = std::regex_replace(s, std::regex("<FilterScript>\n"), "<FilterScript>\n" + scale);
-  const std::string path = e2e::OutPath(name);
-  std::ofstream(path) << s;
-  return path;
+  return ScriptWithFirstFilter("fitmaps.mlx", scale, name);
 }
 
 // quad_simplification.mlx preceded by MeshLab's "Transform: Translate, Center, set Origin" by
 // (0.5, 0, 0), its matrix not frozen.
 std::string TranslatedQuadsScript(const std::string& name) {
-  std::string s = e2e::Slurp(e2e::Script("quad_simplification.mlx"));
   const std::string move =
       " <filter name=\"Transform: Translate, Center, set Origin\">\n"
       "  <Param type=\"RichEnum\" value=\"0\" name=\"traslMethod\" enum_cardinality=\"3\" enum_val0=\"XYZ translation\" "
@@ -50,10 +55,7 @@ std::string TranslatedQuadsScript(const std::string& name) {
       "  <Param type=\"RichBool\" value=\"false\" name=\"Freeze\"/>\n"
       "  <Param type=\"RichBool\" value=\"false\" name=\"allLayers\"/>\n"
       " </filter>\n";
-  s = std::regex_replace(s, std::regex("<FilterScript>\n"), "<FilterScript>\n" + move);
-  const std::string path = e2e::OutPath(name);
-  std::ofstream(path) << s;
-  return path;
+  return ScriptWithFirstFilter("quad_simplification.mlx", move, name);
 }
 
 // The 16 numbers of every <MLMatrix44> of a MeshLab project file, in order.
