@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
+#include <sstream>
 
 namespace vcgext {
 
@@ -19,6 +21,19 @@ std::string Ext(const std::string& path) {
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return e;
 }
+
+// The OFF file's text without its whitespace-only lines: vcglib's OFF tokenizer skips empty lines
+// and comments but reads a line of spaces as a line without tokens and dereferences its first
+// (a segfault on the data set's prim.off; MeshLab's reader opens it).
+bool ReadOffText(const std::string& path, std::string& text) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream out;
+  for (std::string line; std::getline(in, line);)
+    if (line.find_first_not_of(" \t\r") != std::string::npos) out << line << '\n';
+  text = out.str();
+  return true;
+}
 }  // namespace
 
 std::string LoadMesh(const std::string& path, TMesh& m) {
@@ -26,7 +41,10 @@ std::string LoadMesh(const std::string& path, TMesh& m) {
   const std::string e = Ext(path);
   int err = 0;
   if (e == "off") {
-    err = vcg::tri::io::ImporterOFF<TMesh>::Open(m, path.c_str());
+    std::string text;
+    int mask = 0;
+    err = ReadOffText(path, text) ? vcg::tri::io::ImporterOFF<TMesh>::OpenMem(m, text.data(), text.size(), mask)
+                                  : int(vcg::tri::io::ImporterOFF<TMesh>::CantOpen);
     if (err) return std::string("cannot read OFF ") + path + ": " + vcg::tri::io::ImporterOFF<TMesh>::ErrorMsg(err);
   } else if (e == "ply") {
     err = vcg::tri::io::ImporterPLY<TMesh>::Open(m, path.c_str());
