@@ -1105,4 +1105,6 @@ TEST(FitAndBake, ResultWarningsNameWhatIsFarOff) {
   EXPECT_NE(w[1].find("up to 203.8 permille"), std::string::npos) << w[1];
   EXPECT_NE(w[1].find("436 patches"), std::string::npos) << w[1];
   EXPECT_NE(w[2].find("displaced surface stays 39.4 permille"), std::string::npos) << w[2];
+  // the advice holds whether the cage came from a budget or from tau (the fit does not know)
+  EXPECT_NE(w[2].find("more patches (a larger Target patches, or a smaller tau)"), std::string::npos) << w[2];
 }

@@ -34,7 +34,7 @@ std::vector<std::string> ResultWarnings(const FitBakeResult& r) {
     std::snprintf(buf, sizeof buf,
                   "the displaced surface stays %.1f permille of the bbox diagonal (RMS) from the reference: the "
                   "control mesh does not follow the part and the displacement cannot restore it; run the "
-                  "simplification again with a patch budget (Target patches) or another tau",
+                  "simplification again with more patches (a larger Target patches, or a smaller tau)",
                   r.metrics.rmsDisplacedPermille);
     w.push_back(buf);
   }
