@@ -317,8 +317,10 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
                  const vcgext::TriData& tri, const vcgext::EmbreeScene& scene, std::chrono::steady_clock::time_point t0) {
   LogQuadSummary(ctx, r, t0);
   LogBudgetRetries(ctx, r, p);
+  const vcgext::SecondSheets sheets = vcgext::FindSecondSheets(tri, scene);
   for (const std::string& w : {vcgext::DebrisWarning(r.quads, vcgext::BBoxDiagonal(tri.V)),
-                               vcgext::HolesWarning(tri, r.quads), vcgext::DoubledWallWarning(tri, scene, r.quads)})
+                               vcgext::HolesWarning(tri, r.quads), vcgext::DoubledWallWarning(sheets, r.quads),
+                               p.targetPatches > 0 ? std::string() : vcgext::ThinSheetWarning(sheets, r.quads)})
     if (!w.empty()) ctx.log("Warning: Fitmap Quad Simplification: " + w);
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);

@@ -272,10 +272,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const vcgext::FitmapParams p = DecodeParams(in, flags, int(all.V.size()));
         vcgext::EmbreeScene scene(all);
         CheckFitmaps(vcgext::ComputeFitmaps(all, scene, p), all.V.size());
-        // the doubled-wall measure on the same raw import (degenerate faces kept)
-        const vcgext::DoubledWall d = vcgext::FindDoubledWall(all, scene);
-        REQUIRE(d.areaPercent >= 0 && d.areaPercent <= 100 && d.medianDistance >= 0 && std::isfinite(d.medianDistance),
-                "doubled wall: %g %% at %g", d.areaPercent, d.medianDistance);
+        // the second-sheet measures on the same raw import (degenerate faces kept)
+        const vcgext::SecondSheets d = vcgext::FindSecondSheets(all, scene);
+        for (const vcgext::SheetShare& s : {d.doubled, d.thin})
+          REQUIRE(s.areaPercent >= 0 && s.areaPercent <= 100 && s.medianDistance >= 0 && std::isfinite(s.medianDistance),
+                  "second sheet: %g %% at %g", s.areaPercent, s.medianDistance);
       }
     } else {
       const vcgext::FitmapParams p = DecodeParams(in, flags, int(w.mesh.V.size()));

@@ -131,13 +131,13 @@ TEST(ScanArtifacts, DoubledWallIsFoundAndWarnedAbout) {
   const TriData s = testsupport::Icosphere(4);
   const TriData doubled = Merged(s, testsupport::Icosphere(4, 1.002));
   const vcgext::EmbreeScene ds(doubled);
-  const vcgext::DoubledWall w = vcgext::FindDoubledWall(doubled, ds);
-  EXPECT_GT(w.areaPercent, 99.9);
-  EXPECT_GT(w.medianDistance, 0.0015);  // 0.002 between the spheres, their facets 2e-3 flatter
-  EXPECT_LT(w.medianDistance, 0.003);
+  const vcgext::SecondSheets w = vcgext::FindSecondSheets(doubled, ds);
+  EXPECT_GT(w.doubled.areaPercent, 99.9);
+  EXPECT_GT(w.doubled.medianDistance, 0.0015);  // 0.002 between the spheres, their facets 2e-3 flatter
+  EXPECT_LT(w.doubled.medianDistance, 0.003);
   QuadData cage;
   AddBox(cage, Vec3::Zero(), 1.0);
-  const std::string msg = vcgext::DoubledWallWarning(doubled, ds, cage);
+  const std::string msg = vcgext::DoubledWallWarning(w, cage);
   EXPECT_NE(msg.find("100 % of the input's area has a second sheet facing the same way"), std::string::npos) << msg;
   EXPECT_NE(msg.find("the cage has 6"), std::string::npos) << msg;
   EXPECT_NE(msg.find("Screened Poisson"), std::string::npos) << msg;
@@ -147,8 +147,9 @@ TEST(ScanArtifacts, DoubledWallIsFoundAndWarnedAbout) {
   for (size_t i = s.V.size(); i < apart.V.size(); ++i) apart.V[i].x() += 1.5;
   for (const TriData* t : std::vector<const TriData*>{&s, &plate, &apart, &inside}) {
     const vcgext::EmbreeScene sc(*t);
-    EXPECT_EQ(vcgext::FindDoubledWall(*t, sc).areaPercent, 0.0);
-    EXPECT_EQ(vcgext::DoubledWallWarning(*t, sc, cage), "");
+    const vcgext::SecondSheets st = vcgext::FindSecondSheets(*t, sc);
+    EXPECT_EQ(st.doubled.areaPercent, 0.0);
+    EXPECT_EQ(vcgext::DoubledWallWarning(st, cage), "");
   }
   // a copy of a quarter of the sphere (a region scanned twice): about a fifth of the area
   TriData cap;
@@ -158,6 +159,44 @@ TEST(ScanArtifacts, DoubledWallIsFoundAndWarnedAbout) {
   const TriData part = Merged(s, cap);
   const vcgext::EmbreeScene ps(part);
   const double capShare = 100.0 * double(2 * cap.F.size()) / double(part.F.size());
-  EXPECT_NEAR(vcgext::FindDoubledWall(part, ps).areaPercent, capShare, 2.0);
-  EXPECT_NE(vcgext::DoubledWallWarning(part, ps, cage), "");
+  const vcgext::SecondSheets pw = vcgext::FindSecondSheets(part, ps);
+  EXPECT_NEAR(pw.doubled.areaPercent, capShare, 2.0);
+  EXPECT_NE(vcgext::DoubledWallWarning(pw, cage), "");
+}
+
+// A thin part: a sphere squashed to a plate 0.01 thick (diagonal 2.83, reach 0.028) is a thin
+// sheet over nearly all its area, with either orientation (the signed volume says which side is
+// inside), its median thickness between the rim's and the centre's 0.01; the sphere is not, and
+// neither are two thick boxes 0.005 apart (their facing sides see each other from outside: a gap,
+// not a sheet). The warning follows the share.
+TEST(ScanArtifacts, ThinSheetIsFoundFromItsInsideAndWarnedAbout) {
+  using vcgext::TriData;
+  const TriData s = testsupport::Icosphere(4);
+  TriData plate = s;
+  for (auto& v : plate.V) v.z() *= 0.005;
+  TriData reversed = plate;
+  for (auto& f : reversed.F) std::swap(f[1], f[2]);
+  QuadData cage;
+  AddBox(cage, Vec3::Zero(), 1.0);
+  for (const TriData* t : {&plate, &reversed}) {
+    const vcgext::EmbreeScene sc(*t);
+    const vcgext::SecondSheets w = vcgext::FindSecondSheets(*t, sc);
+    EXPECT_GT(w.thin.areaPercent, 90.0);
+    EXPECT_GT(w.thin.medianDistance, 0.004);
+    EXPECT_LE(w.thin.medianDistance, 0.0101);
+    EXPECT_EQ(w.doubled.areaPercent, 0.0);
+    const std::string msg = vcgext::ThinSheetWarning(w, cage);
+    EXPECT_NE(msg.find("of the input's area is a thin sheet"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("the cage has 6 patches"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("Target patches"), std::string::npos) << msg;
+  }
+  QuadData boxes;
+  AddBox(boxes, Vec3::Zero(), 1.0);
+  AddBox(boxes, Vec3(1.005, 0, 0), 1.0);
+  for (const TriData& t : {s, vcgext::SplitQuads(boxes)}) {
+    const vcgext::EmbreeScene sc(t);
+    const vcgext::SecondSheets w = vcgext::FindSecondSheets(t, sc);
+    EXPECT_EQ(w.thin.areaPercent, 0.0);
+    EXPECT_EQ(vcgext::ThinSheetWarning(w, cage), "");
+  }
 }

@@ -1,5 +1,5 @@
 /// \file scan_artifacts.cpp
-/// Debris, small holes and doubled walls of a raw scan, and what they cost the cage (scan_artifacts.h).
+/// Debris, small holes, doubled walls and thin sheets of a raw scan, and what they cost the cage (scan_artifacts.h).
 #include "vcg_ext/quad/scan_artifacts.h"
 
 #include "vcg_ext/core/union_find.h"
@@ -134,14 +134,45 @@ std::string HolesWarning(const TriData& input, const QuadData& cage) {
   return buf;
 }
 
-DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene) {
-  DoubledWall w;
+namespace {
+// The share of `area` (by area) where dist >= 0, and the median of those distances.
+SheetShare ShareOf(const std::vector<double>& area, const std::vector<double>& dist) {
+  double total = 0, covered = 0;
+  std::vector<double> d;
+  for (size_t i = 0; i < area.size(); ++i) {
+    total += area[i];
+    if (dist[i] >= 0 && area[i] > 0) {
+      covered += area[i];
+      d.push_back(dist[i]);
+    }
+  }
+  SheetShare s;
+  s.areaPercent = total > 0 ? 100.0 * (covered / total) : 0.0;  // (a share first: at most 1, so at most 100)
+  if (!d.empty()) {
+    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+    s.medianDistance = d[d.size() / 2];
+  }
+  return s;
+}
+
+// +1 when the input's signed volume is positive (faces oriented outwards), else -1.
+double OutwardSign(const TriData& m) {
+  double vol = 0;
+  for (const Tri& f : m.F) vol += m.V[size_t(f[0])].dot(m.V[size_t(f[1])].cross(m.V[size_t(f[2])]));
+  return vol < 0 ? -1.0 : 1.0;
+}
+}  // namespace
+
+SecondSheets FindSecondSheets(const TriData& input, const EmbreeScene& scene) {
+  SecondSheets w;
   const long nF = long(input.F.size());
   if (nF == 0 || !scene.Ok()) return w;
   const long stride = (nF + kDoubledWallSamples - 1) / kDoubledWallSamples;
   const long n = (nF + stride - 1) / stride;
   const double diag = w.diagonal = BBoxDiagonal(input.V), reach = kDoubledWallDistancePercent / 100.0 * diag;
-  std::vector<double> area(size_t(n), 0.0), dist(size_t(n), -1.0);  // dist < 0: no second sheet
+  const double inward = -OutwardSign(input);  // the side of a face's normal that is inside
+  // dist < 0: no second sheet
+  std::vector<double> area(size_t(n), 0.0), doubled(size_t(n), -1.0), thin(size_t(n), -1.0);
 #pragma omp parallel for schedule(dynamic, 256)
   for (long i = 0; i < n; ++i) {
     const Tri& f = input.F[size_t(i * stride)];
@@ -157,31 +188,23 @@ DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene) {
       if (!h.valid || h.face == int(i * stride)) continue;
       const Tri& g = input.F[size_t(h.face)];
       const Vec3 gn = (input.V[size_t(g[1])] - input.V[size_t(g[0])]).cross(input.V[size_t(g[2])] - input.V[size_t(g[0])]);
-      if (gn.norm() > 0 && nrm.dot(gn.normalized()) > kDoubledWallCosine &&
-          (dist[size_t(i)] < 0 || std::abs(h.t) < dist[size_t(i)]))
-        dist[size_t(i)] = std::abs(h.t);
+      if (!(gn.norm() > 0)) continue;
+      const double cosine = nrm.dot(gn.normalized());
+      double* slot = nullptr;
+      if (cosine > kDoubledWallCosine)
+        slot = &doubled[size_t(i)];
+      else if (cosine < -kDoubledWallCosine && side == inward)
+        slot = &thin[size_t(i)];
+      if (slot && (*slot < 0 || std::abs(h.t) < *slot)) *slot = std::abs(h.t);
     }
   }
-  double total = 0, doubled = 0;
-  std::vector<double> d;
-  for (long i = 0; i < n; ++i) {
-    total += area[size_t(i)];
-    if (dist[size_t(i)] >= 0 && area[size_t(i)] > 0) {
-      doubled += area[size_t(i)];
-      d.push_back(dist[size_t(i)]);
-    }
-  }
-  w.areaPercent = total > 0 ? 100.0 * (doubled / total) : 0.0;  // (a share first: at most 1, so at most 100)
-  if (!d.empty()) {
-    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
-    w.medianDistance = d[d.size() / 2];
-  }
+  w.doubled = ShareOf(area, doubled);
+  w.thin = ShareOf(area, thin);
   return w;
 }
 
-std::string DoubledWallWarning(const TriData& input, const EmbreeScene& scene, const QuadData& cage) {
-  const DoubledWall w = FindDoubledWall(input, scene);
-  if (w.areaPercent < kDoubledWallAreaPercent) return {};
+std::string DoubledWallWarning(const SecondSheets& s, const QuadData& cage) {
+  if (s.doubled.areaPercent < kDoubledWallAreaPercent) return {};
   char buf[700];
   std::snprintf(buf, sizeof buf,
                 "%.0f %% of the input's area has a second sheet facing the same way %.3g %% of the diagonal away "
@@ -189,7 +212,19 @@ std::string DoubledWallWarning(const TriData& input, const EmbreeScene& scene, c
                 "of its own (the cage has %zu) and the projections can land on the wrong sheet. To fit one "
                 "surface, rebuild it from both first: Filters > Remeshing, Simplification and Reconstruction > "
                 "Surface Reconstruction: Screened Poisson (PyMeshLab: generate_surface_reconstruction_screened_poisson)",
-                w.areaPercent, 100 * w.medianDistance / w.diagonal, cage.F.size());
+                s.doubled.areaPercent, 100 * s.doubled.medianDistance / s.diagonal, cage.F.size());
+  return buf;
+}
+
+std::string ThinSheetWarning(const SecondSheets& s, const QuadData& cage) {
+  if (s.thin.areaPercent < kThinSheetAreaPercent) return {};
+  char buf[700];
+  std::snprintf(buf, sizeof buf,
+                "%.0f %% of the input's area is a thin sheet, its other side %.3g %% of the diagonal away (median): "
+                "a patch cannot span a rim thinner than itself, so the paper's halting (the M-fitmap test) stops "
+                "the collapses early over the whole sheet and the cage has %zu patches, more than its shape needs. "
+                "Give a patch budget instead (Target patches; run_pipeline.sh --patches N)",
+                s.thin.areaPercent, 100 * s.thin.medianDistance / s.diagonal, cage.F.size());
   return buf;
 }
 

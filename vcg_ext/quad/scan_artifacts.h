@@ -10,7 +10,9 @@
 ///   the hole (a sphere with 30 such holes at tau = 1 %: 3.3 % of it unreached);
 /// - a doubled wall, two sheets of one surface close together and facing the same way (two scans
 ///   of it left unmerged, a shell copied onto itself): each sheet gets patches of its own and
-///   the projections can land on the wrong one.
+///   the projections can land on the wrong one;
+/// - thin sheets (a plate, a leaf, a scan squashed flat): the paper's halting stops early over
+///   the whole sheet, so the count is far above what the shape needs.
 /// The filters keep the input as it is (dropping or filling geometry is the user's decision) and
 /// name MeshLab's filters that clean it.
 #include <string>
@@ -64,28 +66,45 @@ std::string HolesWarning(const TriData& input, const QuadData& cage);
 
 /// A second sheet counts within this share of the bounding-box diagonal ...
 inline constexpr double kDoubledWallDistancePercent = 1.0;
-/// ... when its normal agrees with the first's to this cosine (a thin part's other side faces
-/// the other way: cosine near -1);
+/// ... when its normal agrees with the first's to this cosine (a doubled wall), or disagrees to
+/// it (cosine below its negative) seen from behind the first (a thin part's other side);
 inline constexpr double kDoubledWallCosine = 0.9;
-/// and the warning is given when such sheets cover at least this share of the input's area (the
-/// data set's 138 OFF files: at most 0.31 %, mannequin-devil; an unmerged copy: 99-100 %).
+/// and the doubled-wall warning is given when such sheets cover at least this share of the
+/// input's area (the data set's 138 OFF files: at most 0.31 %, mannequin-devil; an unmerged copy:
+/// 99-100 %);
 inline constexpr double kDoubledWallAreaPercent = 5.0;
+/// the thin-sheet warning from this share (see ThinSheetWarning).
+inline constexpr double kThinSheetAreaPercent = 50.0;
 /// Triangles sampled at most (evenly by index): 2 rays each.
 inline constexpr long kDoubledWallSamples = 200000;
 
-/// The share of the input's area (sampled triangles, by area) whose triangle, seen along its
-/// normal from its centroid both ways, has another triangle within kDoubledWallDistancePercent of
-/// the diagonal facing the same way (kDoubledWallCosine), and the median distance to it.
-struct DoubledWall {
+/// A share of the input's area (sampled triangles, by area) and the median distance to the
+/// other sheet over it.
+struct SheetShare {
   double areaPercent = 0;
   double medianDistance = 0;
+};
+/// What a triangle sees along its normal from its centroid, both ways, within
+/// kDoubledWallDistancePercent of the diagonal: another triangle facing the same way
+/// (kDoubledWallCosine; `doubled`), or, behind it, one facing the other way (the other side of a
+/// part thinner than the reach; `thin`). "Behind" is the inside as the input's signed volume
+/// says (negative: its faces point inwards; one sign for the whole input).
+struct SecondSheets {
+  SheetShare doubled;
+  SheetShare thin;
   double diagonal = 0;  ///< the input's bounding-box diagonal (what the distances are measured against)
 };
-DoubledWall FindDoubledWall(const TriData& input, const EmbreeScene& scene);
+SecondSheets FindSecondSheets(const TriData& input, const EmbreeScene& scene);
 
 /// The warning for an input whose doubled wall covers kDoubledWallAreaPercent of its area or more
-/// (FindDoubledWall), with the cage's patches; empty otherwise. It names the filter that rebuilds
+/// (`s.doubled`), with the cage's patches; empty otherwise. It names the filter that rebuilds
 /// one surface from both sheets (MeshLab and PyMeshLab).
-std::string DoubledWallWarning(const TriData& input, const EmbreeScene& scene, const QuadData& cage);
+std::string DoubledWallWarning(const SecondSheets& s, const QuadData& cage);
+
+/// The warning for a cage simplified by the paper's halting (no patch budget) from an input whose
+/// thin part covers kThinSheetAreaPercent of its area or more (`s.thin`): a patch cannot span a
+/// rim thinner than itself, so the M-fitmap stops the collapses early over the whole sheet
+/// (docs/robustness.md "Thin sheets"); it advises a patch budget. Empty otherwise.
+std::string ThinSheetWarning(const SecondSheets& s, const QuadData& cage);
 
 }  // namespace vcgext
