@@ -167,3 +167,65 @@ TEST(Seams, GenuineBoundariesAreLeftAlone) {
   EXPECT_EQ(vcgext::CloseTJunctions(t.V, out.F, boundary, 1e-4), 1);  // within tolerance: inserted
   EXPECT_EQ(out.F.size(), 3u);
 }
+
+namespace {
+// A 20 x 20 grid of the unit square (cells 0.05) whose right half has its own copies of the
+// vertices on x = 0.5, raised by `gap` (a crack along the middle, 21 vertices on each side).
+TriData CrackedGrid(double gap) {
+  const int n = 20, half = 10;
+  TriData t;
+  auto id = [&](int i, int j) { return i * (n + 1) + j; };
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) t.V.push_back(Vec3(double(i) / n, double(j) / n, 0));
+  std::vector<int> copy(size_t(n + 1));
+  for (int j = 0; j <= n; ++j) {
+    copy[size_t(j)] = int(t.V.size());
+    t.V.push_back(Vec3(0.5, double(j) / n, gap));
+  }
+  auto at = [&](int i, int j) { return i == half ? copy[size_t(j)] : id(i, j); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      auto v = [&](int a, int b) { return a == half && i >= half ? at(a, b) : id(a, b); };
+      t.F.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      t.F.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  return t;
+}
+bool Warned(const vcgext::WorkingCopy& w, const std::string& what) {
+  for (const std::string& s : w.warnings)
+    if (s.find(what) != std::string::npos) return true;
+  return false;
+}
+}  // namespace
+
+// A crack wider than the seam weld (a millionth of the diagonal) but far narrower than the edges
+// beside it is counted (both sides' 21 vertices), warned about with a merging distance that
+// closes it and stays below the edges, and left open (the vertex count unchanged); one within
+// the weld is welded and not warned about; one a fifth of an edge wide is a slit, not a crack;
+// coincident boundary vertices (kept apart when merging them would pinch the surface) are not
+// counted.
+TEST(Seams, CracksWiderThanTheWeldAreWarnedAboutNotWelded) {
+  const TriData cracked = CrackedGrid(1e-4);
+  const vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(cracked);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.crackVertices, 42);
+  EXPECT_EQ(w.mesh.V.size(), cracked.V.size());
+  ASSERT_TRUE(Warned(w, "42 boundary vertices lie near another boundary's")) << ::testing::PrintToString(w.warnings);
+  ASSERT_TRUE(Warned(w, "Merge Close Vertices with a merging distance of 0.00015 "))
+      << ::testing::PrintToString(w.warnings);
+
+  const vcgext::WorkingCopy welded = vcgext::PrepareWorkingCopy(CrackedGrid(1e-7));
+  EXPECT_EQ(welded.seamVertices, 21);
+  EXPECT_EQ(welded.crackVertices, 0);
+  EXPECT_TRUE(welded.warnings.empty());
+  const vcgext::WorkingCopy slit = vcgext::PrepareWorkingCopy(CrackedGrid(0.01));
+  EXPECT_EQ(slit.crackVertices, 0);
+  EXPECT_TRUE(slit.warnings.empty());
+
+  // two triangles touching at coincident copies of a corner: not a crack
+  const std::vector<Vec3> V = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {-1, 0, 0}, {0, -1, 0}};
+  const std::vector<Tri> F = {{0, 1, 2}, {3, 4, 5}};
+  double reach = 0, widest = 0;
+  EXPECT_EQ(vcgext::NearBoundaryVertices(V, F, {0, 1, 2, 3, 4, 5}, 0.1, reach, widest), 0);
+  EXPECT_EQ(widest, 0.0);
+}

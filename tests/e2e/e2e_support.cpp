@@ -51,6 +51,14 @@ double JsonNumber(const std::string& json, const std::string& key) {
 
 std::string OutPath(const std::string& name) { return testsupport::ScratchDir() + "/" + name; }
 
+std::string ScriptWithFirstFilter(const std::string& script, const std::string& filterXml, const std::string& name) {
+  const std::string s =
+      std::regex_replace(Slurp(Script(script)), std::regex("<FilterScript>\n"), "<FilterScript>\n" + filterXml);
+  const std::string path = OutPath(name);
+  std::ofstream(path) << s;
+  return path;
+}
+
 std::vector<std::string> MlxScripts() {
   std::vector<std::string> out;
   for (const auto& e : std::filesystem::directory_iterator(std::string(FITMAP_SOURCE_DIR) + "/meshlab_scripts"))

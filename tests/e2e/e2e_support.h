@@ -20,6 +20,9 @@ std::string OutPath(const std::string& name);
 std::vector<std::string> MlxScripts();
 /// Absolute path of meshlab_scripts/<name>.
 std::string Script(const std::string& name);
+/// meshlab_scripts/<script> with the filter `filterXml` (a <filter> element) run first, written to
+/// OutPath(`name`); returns its path.
+std::string ScriptWithFirstFilter(const std::string& script, const std::string& filterXml, const std::string& name);
 /// Quotes a string for /bin/sh.
 std::string Q(const std::string& s);
 /// The whole content of a file ("" if it cannot be read).

@@ -14,16 +14,6 @@
 
 namespace {
 
-// meshlab_scripts/<script> with the filter `filterXml` run first, written to the output folder as
-// `name`; returns its path.
-std::string ScriptWithFirstFilter(const std::string& script, const std::string& filterXml, const std::string& name) {
-  const std::string s = std::regex_replace(e2e::Slurp(e2e::Script(script)), std::regex("<FilterScript>\n"),
-                                           "<FilterScript>\n" + filterXml);
-  const std::string path = e2e::OutPath(name);
-  std::ofstream(path) << s;
-  return path;
-}
-
 // fitmaps.mlx preceded by MeshLab's "Transform: Scale, Normalize" by (sx, sy, sz) about the
 // origin, its matrix not frozen.
 std::string ScaledFitmapsScript(const std::string& name, const char* sx, const char* sy, const char* sz) {
@@ -38,7 +28,7 @@ std::string ScaledFitmapsScript(const std::string& name, const char* sx, const c
                             "  <Param type=\"RichBool\" value=\"false\" name=\"unitFlag\"/>\n" +
                             "  <Param type=\"RichBool\" value=\"false\" name=\"Freeze\"/>\n" +
                             "  <Param type=\"RichBool\" value=\"false\" name=\"allLayers\"/>\n" + " </filter>\n";
-  return ScriptWithFirstFilter("fitmaps.mlx", scale, name);
+  return e2e::ScriptWithFirstFilter("fitmaps.mlx", scale, name);
 }
 
 // quad_simplification.mlx preceded by MeshLab's "Transform: Translate, Center, set Origin" by
@@ -55,7 +45,7 @@ std::string TranslatedQuadsScript(const std::string& name) {
       "  <Param type=\"RichBool\" value=\"false\" name=\"Freeze\"/>\n"
       "  <Param type=\"RichBool\" value=\"false\" name=\"allLayers\"/>\n"
       " </filter>\n";
-  return ScriptWithFirstFilter("quad_simplification.mlx", move, name);
+  return e2e::ScriptWithFirstFilter("quad_simplification.mlx", move, name);
 }
 
 // The 16 numbers of every <MLMatrix44> of a MeshLab project file, in order.

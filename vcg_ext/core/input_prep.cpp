@@ -183,6 +183,32 @@ void CloseSeams(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, s
   w.closedTJunctions = inserted;
 }
 
+// 2c. Cracks: boundary vertices still near another boundary's after the seams were closed (a
+// crack or an unwelded seam wider than the weld's millionth of the diagonal) are not welded (how
+// far apart two boundaries may lie and still be one surface is the user's call) but warned about
+// from kCrackVertices on: within kCrackEdgeShare of their shortest boundary edges and of the
+// median one, sharing no edge (NearBoundaryVertices). The warning gives MeshLab's weld with a threshold above
+// the widest such gap and below the tolerance.
+constexpr int kCrackVertices = 10;
+constexpr double kCrackEdgeShare = 0.1;
+void WarnOfCracks(const std::vector<Vec3>& V, const std::vector<Tri>& F, const EdgeFaces& e, WorkingCopy& w) {
+  double reach = 0, widest = 0;
+  const int near = NearBoundaryVertices(V, F, BoundarySides(e), kCrackEdgeShare, reach, widest);
+  if (near < kCrackVertices) return;
+  const double diag = BBoxDiagonal(V), threshold = std::min(1.5 * widest, reach);
+  char buf[700];
+  std::snprintf(buf, sizeof buf,
+                "%d boundary vertices lie near another boundary's (up to %.3g %% of the diagonal apart, sharing no "
+                "edge): cracks or an unwelded seam, wider than the millionth of the diagonal welded here. Each stays "
+                "open, a hole in every surface fitted to it (more patches, area around it left unreached). If they "
+                "are one surface, "
+                "weld them first: Filters > Cleaning and Repairing > Merge Close Vertices with a merging distance of "
+                "%.4g (%.3g %% of the diagonal; PyMeshLab: meshing_merge_close_vertices)",
+                near, 100 * widest / diag, threshold, 100 * threshold / diag);
+  w.warnings.push_back(buf);
+  w.crackVertices = near;
+}
+
 // 3a. Per face side (face * 3 + k), the side joined to it across its edge, -1 for none: the other
 // side of an edge of two faces; on an edge of three or more (a fin, two closed parts sharing an
 // edge), with `pairFins`, the two sides that continue each other most smoothly — a pair running
@@ -547,6 +573,7 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
   }
   EdgeFaces e = BuildEdgeFaces(F);
   CloseSeams(raw.V, F, e, rep, w);
+  WarnOfCracks(raw.V, F, e, w);
   std::vector<int> copyOf;  // per vertex made by the split (indices n, n + 1, ...): its original
   if (!SplitNonManifold(raw.V, n, F, e, copyOf, w)) return w;
   w.flippedFaces = OrientComponents(F, e, &w.components, &w.nonOrientableComponents);

@@ -14,6 +14,8 @@
 ///     vertices, either orientation) are dropped; seams between separately meshed parts
 ///     (seams.h) are closed: boundary vertices within 1e-6 of the diagonal of another boundary's
 ///     are welded, and a vertex on another face's boundary edge (a T-junction) splits that face;
+///     boundary vertices left within a tenth of the boundary's median edge of another boundary's
+///     (cracks wider than that weld) are counted and warned about, not welded;
 ///  3. on edges of three or more triangles, the two that continue each other keep the edge and
 ///     the others are separated (a fin comes off); vertices where separate sheets touch (a
 ///     bow-tie) are split into one copy per sheet, as MeshLab's Repair non Manifold Vertices does;
@@ -44,6 +46,7 @@ struct WorkingCopy {
   int weldedVertices = 0;             ///< of a triangle soup, merged within 1e-6 of the diagonal
   int seamVertices = 0;               ///< boundary vertices welded to another boundary's (seams.h)
   int closedTJunctions = 0;           ///< vertices on another face's boundary edge, split into it
+  int crackVertices = 0;              ///< boundary vertices left near another boundary's (warned, not welded)
   int unreferencedVertices = 0;       ///< live vertices in no face (after dropping faces)
   int degenerateFaces = 0;            ///< faces repeating a vertex (in the layer or after merging)
   int duplicateFaces = 0;             ///< repeated faces dropped

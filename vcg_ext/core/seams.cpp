@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <unordered_map>
@@ -59,6 +60,19 @@ std::vector<int> BoundaryVertices(const std::vector<Tri>& F, const std::vector<i
   return verts;
 }
 
+// The edges of the faces between two of the boundary vertices `verts` (sorted pairs): two such
+// are sides of one surface already, never a seam's two copies.
+std::set<std::pair<int, int>> EdgesBetween(size_t nV, const std::vector<Tri>& F, const std::vector<int>& verts) {
+  std::vector<char> onBoundary(nV, 0);
+  for (int v : verts) onBoundary[size_t(v)] = 1;
+  std::set<std::pair<int, int>> edges;
+  for (const Tri& f : F)
+    for (int k = 0; k < 3; ++k)
+      if (onBoundary[size_t(f[size_t(k)])] && onBoundary[size_t(f[size_t((k + 1) % 3)])])
+        edges.insert(std::minmax(f[size_t(k)], f[size_t((k + 1) % 3)]));
+  return edges;
+}
+
 }  // namespace
 
 int WeldSeamVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
@@ -67,13 +81,7 @@ int WeldSeamVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, cons
   std::iota(into.begin(), into.end(), 0);
   if (boundarySides.empty() || !(tol > 0) || !std::isfinite(tol)) return 0;
   const std::vector<int> verts = BoundaryVertices(F, boundarySides);
-  std::vector<char> onBoundary(V.size(), 0);
-  for (int v : verts) onBoundary[size_t(v)] = 1;
-  std::set<std::pair<int, int>> edges;  // between boundary vertices: such two are never merged
-  for (const Tri& f : F)
-    for (int k = 0; k < 3; ++k)
-      if (onBoundary[size_t(f[size_t(k)])] && onBoundary[size_t(f[size_t((k + 1) % 3)])])
-        edges.insert(std::minmax(f[size_t(k)], f[size_t((k + 1) % 3)]));
+  const std::set<std::pair<int, int>> edges = EdgesBetween(V.size(), F, verts);
   int welded = 0;
   into = WeldWithin(V, verts, tol, [&](int u, int v) { return !edges.count(std::minmax(u, v)); }, &welded);
   for (const Tri& f : F)  // two vertices of a face merged into one (a boundary edge under tol): none
@@ -83,6 +91,43 @@ int WeldSeamVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, cons
       return 0;
     }
   return welded;
+}
+
+int NearBoundaryVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
+                         double share, double& reach, double& widest) {
+  widest = reach = 0;
+  if (boundarySides.empty() || !(share > 0)) return 0;
+  // each boundary vertex's shortest boundary side, and the median side
+  std::vector<double> shortest(V.size(), std::numeric_limits<double>::infinity()), sides;
+  for (int s : boundarySides) {
+    const int a = F[size_t(s / 3)][size_t(s % 3)], b = F[size_t(s / 3)][size_t((s % 3 + 1) % 3)];
+    const double len = (V[size_t(a)] - V[size_t(b)]).norm();
+    shortest[size_t(a)] = std::min(shortest[size_t(a)], len);
+    shortest[size_t(b)] = std::min(shortest[size_t(b)], len);
+    sides.push_back(len);
+  }
+  std::nth_element(sides.begin(), sides.begin() + long(sides.size() / 2), sides.end());
+  reach = share * sides[sides.size() / 2];
+  if (!(reach > 0) || !std::isfinite(reach)) return 0;
+  const std::vector<int> verts = BoundaryVertices(F, boundarySides);
+  const std::set<std::pair<int, int>> edges = EdgesBetween(V.size(), F, verts);
+  const VertexGrid grid(V, verts, reach);
+  std::vector<int> near;
+  int count = 0;
+  for (int u : verts) {
+    grid.Near(V[size_t(u)], V[size_t(u)], near);
+    double nearest = -1;
+    for (int k : near) {
+      const double d = (V[size_t(k)] - V[size_t(u)]).norm();
+      if (d > 0 && d <= reach && d <= share * std::min(shortest[size_t(u)], shortest[size_t(k)]) &&
+          !edges.count(std::minmax(u, k)) && (nearest < 0 || d < nearest))
+        nearest = d;
+    }
+    if (nearest < 0) continue;
+    ++count;
+    widest = std::max(widest, nearest);
+  }
+  return count;
 }
 
 int CloseTJunctions(const std::vector<Vec3>& V, std::vector<Tri>& F, const std::vector<int>& boundarySides, double tol) {

@@ -25,6 +25,14 @@ namespace vcgext {
 int WeldSeamVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
                      double tol, std::vector<int>& into);
 
+/// Cracks: how many ends of `boundarySides` have another such end that shares no edge with them
+/// and lies within `share` of the shorter of the two's shortest boundary sides and of the median
+/// boundary side (`reach`), but not on them: exactly coincident ends are vertices the working
+/// copy keeps apart on purpose (merging them would make the surface non-manifold). `widest`: the
+/// largest of their distances to the nearest such end.
+int NearBoundaryVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
+                         double share, double& reach, double& widest);
+
 /// Splits, for every boundary side in `boundarySides`, the face at every vertex of another
 /// boundary side that lies within `tol` of the edge and more than `tol` from both its ends. A face with such vertices on
 /// several of its sides is triangulated with all of them (no triangle of three collinear
