@@ -228,4 +228,9 @@ TEST(Seams, CracksWiderThanTheWeldAreWarnedAboutNotWelded) {
   double reach = 0, widest = 0;
   EXPECT_EQ(vcgext::NearBoundaryVertices(V, F, {0, 1, 2, 3, 4, 5}, 0.1, reach, widest), 0);
   EXPECT_EQ(widest, 0.0);
+  // boundary edges 1e-14 of the extent (the fuzzer's crack_grid_below_the_extent): gaps that small
+  // are the seam weld's, and no grid is built with cells below VertexGrid's limit
+  const std::vector<Vec3> tiny = {{0, 0, 0}, {1e-14, 0, 0}, {0, 1e-14, 0}, {1, 1, 1}, {1 + 1e-14, 1, 1}, {1, 1 + 1e-14, 1}};
+  EXPECT_EQ(vcgext::NearBoundaryVertices(tiny, F, {0, 1, 2, 3, 4, 5}, 0.1, reach, widest), 0);
+  EXPECT_EQ(reach, 0.0);
 }

@@ -108,8 +108,15 @@ int NearBoundaryVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, 
   }
   std::nth_element(sides.begin(), sides.begin() + long(sides.size() / 2), sides.end());
   reach = share * sides[sides.size() / 2];
-  if (!(reach > 0) || !std::isfinite(reach)) return 0;
   const std::vector<int> verts = BoundaryVertices(F, boundarySides);
+  Vec3 lo = V[size_t(verts[0])], hi = lo;
+  for (int v : verts) lo = lo.cwiseMin(V[size_t(v)]), hi = hi.cwiseMax(V[size_t(v)]);
+  // gaps this far below the boundary's extent are the seam weld's (a millionth of the diagonal),
+  // and the grid's cells must not be (VertexGrid)
+  if (!(reach > 1e-9 * (hi - lo).norm()) || !std::isfinite(reach)) {
+    reach = 0;
+    return 0;
+  }
   const std::set<std::pair<int, int>> edges = EdgesBetween(V.size(), F, verts);
   const VertexGrid grid(V, verts, reach);
   std::vector<int> near;
