@@ -410,20 +410,70 @@ QuadMesh::Invariants TriangleInvariants(const TriData& m) {
   QuadData all = SplitToQuads(m.V, m.F, {});
   return QuadMesh(all.V, all.F).ComputeInvariants();
 }
+
+// The quads of pairing `pr` (a pair's quad; a boundary split's two halves, its midpoint appended
+// to V) and the number of triangles left alone.
+int QuadsOfPairing(const std::vector<Tri>& F, const Pairing& pr, std::vector<Vec3>& V, std::vector<Quad>& quads) {
+  int lone = 0;
+  for (int t = 0; t < int(F.size()); ++t) {
+    if (pr.mate[t] == -1) ++lone;
+    else if (pr.mate[t] >= 0 && t < pr.mate[t]) quads.push_back(PairQuad(F, pr.mateHe[t], pr.mateHe[pr.mate[t]]));
+  }
+  for (int h : pr.splitAtBoundary) {
+    const Tri& t = F[h / 3];
+    int a = t[h % 3], b = t[(h % 3 + 1) % 3], c = t[(h % 3 + 2) % 3];
+    V.push_back(0.5 * (V[a] + V[b]));
+    quads.push_back({a, int(V.size()) - 1, b, c});  // halves (a, mm, c) and (mm, b, c)
+  }
+  return lone;
+}
+
+// Forbids pairing across every edge at the vertices `bad` (both half-edges); split vertices
+// (beyond the input's) are skipped: their triangle's corners are marked too. Returns how many
+// vertices were marked.
+int ForbidEdgesAt(const std::vector<int>& bad, const TriData& m, const std::vector<int>& twin, Adjacency& vf,
+                  std::vector<char>& forbidden) {
+  const std::vector<Tri>& F = m.F;
+  if (vf.offs.empty()) vf = VertexFaceAdjacency(F, int(m.V.size()));
+  int marked = 0;
+  for (int v : bad) {
+    if (v >= int(m.V.size())) continue;
+    ++marked;
+    for (const int* it = vf.Begin(v); it != vf.End(v); ++it)
+      for (int k = 0; k < 3; ++k) {
+        const Tri& t = F[*it];
+        if (t[k] != v && t[(k + 1) % 3] != v) continue;
+        const int h = *it * 3 + k;
+        forbidden[h] = 1;
+        if (twin[h] >= 0) forbidden[twin[h]] = 1;
+      }
+  }
+  return marked;
+}
+
+// Fallback: every triangle into three quads (edge midpoints + centre). On a manifold,
+// consistently oriented mesh this is always valid: input vertices keep their triangle
+// valence, midpoints get 4 (3 on the boundary), centres 3.
+void SplitAll(const TriData& m, TriToQuadResult& res) {
+  res.path = TriToQuadPath::SplitAll;
+  res.quads = SplitToQuads(m.V, m.F, {});
+  res.addedVertices = int(res.quads.V.size() - m.V.size());
+  res.boundarySplits = 0;
+  res.doubletsRemoved = 0;
+}
 }  // namespace
 
 TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
   TriToQuadResult res;
   const std::vector<Tri>& F = m.F;
   if (F.empty()) { res.error = "no triangles"; return res; }
-  const int nt = int(F.size());
   std::vector<int> twin = TriTwins(F);
   const QuadMesh::Invariants ref = TriangleInvariants(m);
   // Pairing can leave a vertex in two quads that doublet removal cannot merge (the merge would
   // repeat an edge), or make two quads share two edges. Such vertices are repaired by pairing
   // again with every edge at them forbidden: a vertex whose triangles pair across none of its
   // edges keeps its triangle valence (>= 3 inside a manifold mesh).
-  std::vector<char> forbidden(size_t(nt) * 3, 0);
+  std::vector<char> forbidden(F.size() * 3, 0);
   Adjacency vf;
   for (int attempt = 0; attempt <= p.maxRepairRounds; ++attempt) {
     Pairing pr = PairTriangles(m.V, F, twin, forbidden, p);
@@ -431,19 +481,8 @@ TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
     res.augmentedPairs = pr.augmented;
     std::vector<Vec3> V = m.V;
     std::vector<Quad> quads;
-    int lone = 0;
-    for (int t = 0; t < nt; ++t) {
-      if (pr.mate[t] == -1) ++lone;
-      else if (pr.mate[t] >= 0 && t < pr.mate[t]) quads.push_back(PairQuad(F, pr.mateHe[t], pr.mateHe[pr.mate[t]]));
-    }
-    for (int h : pr.splitAtBoundary) {
-      const Tri& t = F[h / 3];
-      int a = t[h % 3], b = t[(h % 3 + 1) % 3], c = t[(h % 3 + 2) % 3];
-      V.push_back(0.5 * (V[a] + V[b]));
-      quads.push_back({a, int(V.size()) - 1, b, c});  // halves (a, mm, c) and (mm, b, c)
-    }
-    res.unpairedTriangles = lone;
-    if (lone > 0) break;  // only blocked matchings on open meshes: no repair round helps
+    res.unpairedTriangles = QuadsOfPairing(F, pr, V, quads);
+    if (res.unpairedTriangles > 0) break;  // only blocked matchings on open meshes: no repair round helps
     QuadMesh qm(V, quads);
     res.doubletsRemoved = RemovePairingDoublets(qm);
     std::vector<int> bad = InvalidVertices(qm);
@@ -457,19 +496,7 @@ TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
       return res;
     }
     if (bad.empty()) break;  // invalid for another reason (topology changed): fall back
-    if (vf.offs.empty()) vf = VertexFaceAdjacency(F, int(m.V.size()));
-    for (int v : bad) {
-      if (v >= int(m.V.size())) continue;  // a split vertex: its triangle's corners are marked too
-      ++res.repairedVertices;
-      for (const int* it = vf.Begin(v); it != vf.End(v); ++it)
-        for (int k = 0; k < 3; ++k) {
-          const Tri& t = F[*it];
-          if (t[k] != v && t[(k + 1) % 3] != v) continue;
-          const int h = *it * 3 + k;
-          forbidden[h] = 1;
-          if (twin[h] >= 0) forbidden[twin[h]] = 1;
-        }
-    }
+    res.repairedVertices += ForbidEdgesAt(bad, m, twin, vf, forbidden);
     ++res.repairRounds;
   }
   if (!p.allowSplitFallback) {
@@ -477,14 +504,7 @@ TriToQuadResult TriToQuad(const TriData& m, const TriToQuadParams& p) {
                                           : "triangle pairing gave no valid quad mesh";
     return res;
   }
-  // Fallback: every triangle into three quads (edge midpoints + centre). On a manifold,
-  // consistently oriented mesh this is always valid: input vertices keep their triangle
-  // valence, midpoints get 4 (3 on the boundary), centres 3.
-  res.path = TriToQuadPath::SplitAll;
-  res.quads = SplitToQuads(m.V, F, {});
-  res.addedVertices = int(res.quads.V.size() - m.V.size());
-  res.boundarySplits = 0;
-  res.doubletsRemoved = 0;
+  SplitAll(m, res);
   return res;
 }
 
