@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 #include <set>
+#include <string>
 
 namespace vcgext {
 
@@ -141,5 +142,29 @@ Adjacency VertexVertexAdjacency(const std::vector<Tri>& F, int nV) {
   for (auto& l : nb) a.idx.insert(a.idx.end(), l.begin(), l.end());
   return a;
 }
+
+namespace import_detail {
+std::string ImportError(const VertexScan& vs, const FaceScan& fs, const TriData& out, bool allowPolygonal) {
+  if (fs.badRef > 0)
+    return std::to_string(fs.badRef) + " faces refer to vertices that do not exist (a corrupt or truncated "
+           "file: face indices beyond the " + std::to_string(out.V.size()) + " vertices)";
+  if (fs.live == 0)
+    return "the layer is a point cloud (" + std::to_string(out.V.size()) +
+           " vertices, no faces): a triangle mesh is needed";
+  if (fs.faux > 0 && !allowPolygonal)
+    return "the layer has polygonal faces (" + std::to_string(fs.faux / 2) +
+           " faux edges): a triangle mesh is needed (Filters > Polygonal and Quad Mesh > "
+           "Turn into a Pure-Triangular mesh)";
+  if (vs.nonFinite > 0)
+    return std::to_string(vs.nonFinite) + " vertices have NaN or infinite coordinates (first: vertex " +
+           std::to_string(vs.firstBad) + ")";
+  if (vs.huge > 0)
+    return std::to_string(vs.huge) + " vertices have coordinates beyond 1e17 (first: vertex " +
+           std::to_string(vs.firstHuge) + "), more than the ray caster can represent; scale the mesh down "
+           "(Filters > Normals, Curvatures and Orientation > Transform: Scale, Normalize)";
+  if (out.F.empty()) return "all faces are degenerate";
+  return {};
+}
+}  // namespace import_detail
 
 }  // namespace vcgext

@@ -90,6 +90,78 @@ struct ImportReport {
 /// a few bounding-box diagonals beyond it, so an order of magnitude is left.
 constexpr double kMaxCoordinate = 1e17;
 
+namespace import_detail {
+/// What ImportVertices found: each vcg vertex's index in `out` (-1: deleted), and the vertices
+/// with non-finite or too large coordinates (their count and the first one's index in `out`).
+struct VertexScan {
+  std::vector<int> remap;
+  int nonFinite = 0, firstBad = -1, huge = 0, firstHuge = -1;
+};
+/// What ImportFaces found: faux edges, live faces, faces with a reference outside the vertices,
+/// and which of `out`'s vertices a kept face uses.
+struct FaceScan {
+  int faux = 0, live = 0, badRef = 0;
+  std::vector<char> used;
+};
+
+/// The live vertices of `m` appended to out.V.
+template <class MeshType>
+VertexScan ImportVertices(const MeshType& m, TriData& out, ImportReport& rep) {
+  VertexScan s;
+  s.remap.assign(m.vert.size(), -1);
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    if (m.vert[i].IsD()) { ++rep.deletedSkipped; continue; }
+    const auto& p = m.vert[i].cP();
+    Vec3 q{double(p[0]), double(p[1]), double(p[2])};
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
+      if (s.firstBad < 0) s.firstBad = int(out.V.size());
+      ++s.nonFinite;
+    } else if (q.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      if (s.firstHuge < 0) s.firstHuge = int(out.V.size());
+      ++s.huge;
+    }
+    s.remap[i] = int(out.V.size());
+    out.V.push_back(q);
+  }
+  return s;
+}
+
+/// The live faces of `m` appended to out.F on the vertices `remap` gives (those repeating a
+/// vertex only with `keepDegenerate`; counted in `rep`).
+template <class MeshType>
+FaceScan ImportFaces(const MeshType& m, const std::vector<int>& remap, bool keepDegenerate, TriData& out,
+                     ImportReport& rep) {
+  FaceScan s;
+  s.used.assign(out.V.size(), 0);
+  const auto* v0 = m.vert.empty() ? nullptr : &m.vert[0];
+  for (const auto& f : m.face) {
+    if (f.IsD()) { ++rep.deletedSkipped; continue; }
+    ++s.live;
+    for (int k = 0; k < 3; ++k) if (f.IsF(k)) ++s.faux;
+    Tri t;
+    bool ok = true;
+    for (int k = 0; k < 3; ++k) {
+      const auto d = f.cV(k) - v0;  // a corrupt file can leave references outside the vertices
+      t[k] = d >= 0 && d < std::ptrdiff_t(remap.size()) ? remap[size_t(d)] : -1;
+      ok = ok && t[k] >= 0;
+    }
+    if (!ok) { ++s.badRef; continue; }
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      ++rep.degenerateFaces;
+      if (!keepDegenerate) continue;
+    }
+    for (int k = 0; k < 3; ++k) s.used[t[k]] = 1;
+    out.F.push_back(t);
+  }
+  return s;
+}
+
+/// The error ImportTriangles gives for what the scans found ("" if none), the first that holds
+/// of: references outside the vertices, no faces, polygonal faces (unless allowed), non-finite
+/// coordinates, coordinates beyond kMaxCoordinate, only degenerate faces.
+std::string ImportError(const VertexScan& vs, const FaceScan& fs, const TriData& out, bool allowPolygonal);
+}  // namespace import_detail
+
 /// Copies the live vertices and faces of a vcg triangle mesh into `out`.
 /// Errors (nothing written to `out` is meaningful then): empty layer, point cloud (no faces),
 /// polygonal faces (faux edges, when `allowPolygonal` is false), non-finite coordinates or
@@ -102,74 +174,12 @@ ImportReport ImportTriangles(const MeshType& m, TriData& out, bool allowPolygona
   ImportReport rep;
   out.V.clear();
   out.F.clear();
-  std::vector<int> remap(m.vert.size(), -1);
-  int nonFinite = 0, firstBad = -1, huge = 0, firstHuge = -1;
-  for (size_t i = 0; i < m.vert.size(); ++i) {
-    if (m.vert[i].IsD()) { ++rep.deletedSkipped; continue; }
-    const auto& p = m.vert[i].cP();
-    Vec3 q{double(p[0]), double(p[1]), double(p[2])};
-    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2])) {
-      if (firstBad < 0) firstBad = int(out.V.size());
-      ++nonFinite;
-    } else if (q.cwiseAbs().maxCoeff() > kMaxCoordinate) {
-      if (firstHuge < 0) firstHuge = int(out.V.size());
-      ++huge;
-    }
-    remap[i] = int(out.V.size());
-    out.V.push_back(q);
-  }
+  const import_detail::VertexScan vs = import_detail::ImportVertices(m, out, rep);
   if (out.V.empty()) { rep.error = "the layer is empty (no vertices)"; return rep; }
-  int faux = 0, live = 0, badRef = 0;
-  std::vector<char> used(out.V.size(), 0);
-  const auto* v0 = m.vert.empty() ? nullptr : &m.vert[0];
-  for (const auto& f : m.face) {
-    if (f.IsD()) { ++rep.deletedSkipped; continue; }
-    ++live;
-    for (int k = 0; k < 3; ++k) if (f.IsF(k)) ++faux;
-    Tri t;
-    bool ok = true;
-    for (int k = 0; k < 3; ++k) {
-      const auto d = f.cV(k) - v0;  // a corrupt file can leave references outside the vertices
-      t[k] = d >= 0 && d < std::ptrdiff_t(remap.size()) ? remap[size_t(d)] : -1;
-      ok = ok && t[k] >= 0;
-    }
-    if (!ok) { ++badRef; continue; }
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
-      ++rep.degenerateFaces;
-      if (!keepDegenerate) continue;
-    }
-    for (int k = 0; k < 3; ++k) used[t[k]] = 1;
-    out.F.push_back(t);
-  }
-  if (badRef > 0) {
-    rep.error = std::to_string(badRef) + " faces refer to vertices that do not exist (a corrupt or truncated "
-                "file: face indices beyond the " + std::to_string(out.V.size()) + " vertices)";
-    return rep;
-  }
-  if (live == 0) {
-    rep.error = "the layer is a point cloud (" + std::to_string(out.V.size()) +
-                " vertices, no faces): a triangle mesh is needed";
-    return rep;
-  }
-  if (faux > 0 && !allowPolygonal) {
-    rep.error = "the layer has polygonal faces (" + std::to_string(faux / 2) +
-                " faux edges): a triangle mesh is needed (Filters > Polygonal and Quad Mesh > "
-                "Turn into a Pure-Triangular mesh)";
-    return rep;
-  }
-  if (nonFinite > 0) {
-    rep.error = std::to_string(nonFinite) + " vertices have NaN or infinite coordinates (first: vertex " +
-                std::to_string(firstBad) + ")";
-    return rep;
-  }
-  if (huge > 0) {
-    rep.error = std::to_string(huge) + " vertices have coordinates beyond 1e17 (first: vertex " +
-                std::to_string(firstHuge) + "), more than the ray caster can represent; scale the mesh down "
-                "(Filters > Normals, Curvatures and Orientation > Transform: Scale, Normalize)";
-    return rep;
-  }
-  if (out.F.empty()) { rep.error = "all faces are degenerate"; return rep; }
-  for (char u : used) rep.unreferenced += u ? 0 : 1;
+  const import_detail::FaceScan fs = import_detail::ImportFaces(m, vs.remap, keepDegenerate, out, rep);
+  rep.error = import_detail::ImportError(vs, fs, out, allowPolygonal);
+  if (rep.error.empty())
+    for (char u : fs.used) rep.unreferenced += u ? 0 : 1;
   return rep;
 }
 
