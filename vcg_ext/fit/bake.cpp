@@ -29,6 +29,74 @@ DisplacementAtlas BakeDisplacement(const LimitSurface& ls, const std::vector<Vec
   return a;
 }
 
+namespace {
+
+// What every texel of the bake reads: the surface, the reference with its face normals (and vertex
+// normals for the normal map), the renderer's grid (rendererLevel > 0) and the projection reach.
+struct TexelBake {
+  const LimitSurface& ls;
+  const std::vector<Vec3>& ctrl;
+  const TriData& ref;
+  const EmbreeScene& scene;
+  const std::vector<Vec3>& refN;
+  const std::vector<Vec3>& vn;  ///< empty without the normal map
+  const LimitTessellation& grid;
+  double maxDist;
+  bool normalMap;
+};
+
+// Bakes texel (i, j) of patch f into `a` (the displacement along the normal, the normal map's
+// colour); false when the normal line missed the reference (the closest point stands in).
+bool BakeTexel(const TexelBake& b, int f, int i, int j, DisplacementAtlas& a) {
+  const int R = a.tileR[f];
+  Vec3 n, P;
+  if (a.rendererLevel > 0) {
+    const int s = b.grid.N / (R - 1), g = GridVertex(b.grid, f, i * s, j * s);
+    P = b.grid.mesh.V[g];
+    n = b.grid.normal[g];
+  } else {
+    P = fitdetail::LimitPointNormal(b.ls, b.ctrl, f, double(i) / (R - 1), double(j) / (R - 1), &n);
+  }
+  double d = 0;
+  EmbreeScene::Hit h;
+  if (n.squaredNorm() > 0) h = fitdetail::IntersectLineOriented(b.scene, b.refN, P, n, b.maxDist);
+  const bool missed = !h.valid;
+  if (h.valid) {
+    d = h.t;
+  } else {
+    h = b.scene.ClosestPoint(P, b.maxDist);
+    if (h.valid) d = (h.point - P).dot(n);
+  }
+  const size_t px = a.Pixel(f, i, j);
+  a.disp[px] = float(d);
+  if (b.normalMap) {
+    Vec3 nn = n;
+    if (h.valid) {
+      const auto& t = b.ref.F[h.face];
+      nn = (1 - h.u - h.v) * b.vn[t[0]] + h.u * b.vn[t[1]] + h.v * b.vn[t[2]];
+      if (nn.norm() > 0) nn.normalize();
+    }
+    for (int c = 0; c < 3; ++c)
+      a.normalRGB[px * 3 + c] = std::uint8_t(std::clamp(std::lround((nn[c] + 1) * 0.5 * 255), 0L, 255L));
+  }
+  return missed;
+}
+
+// Wedge UVs at the corner texels' centres; v up (OpenGL / OBJ / MeshLab), image row 0 on top.
+void SetWedgeUVs(DisplacementAtlas& a, int nF) {
+  a.wedgeUV.resize(nF);
+  const int cu[4] = {0, 1, 1, 0}, cvv[4] = {0, 0, 1, 1};
+  for (int f = 0; f < nF; ++f) {
+    const int R = a.tileR[f];
+    for (int c = 0; c < 4; ++c) {
+      double x = a.tileX[f] + 0.5 + cu[c] * (R - 1), y = a.tileY[f] + 0.5 + cvv[c] * (R - 1);
+      a.wedgeUV[f][c] = Eigen::Vector2d(x / a.width, 1.0 - y / a.height);
+    }
+  }
+}
+
+}  // namespace
+
 void BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, const TriData& ref,
                       const EmbreeScene& scene, double maxDist, bool normalMap, DisplacementAtlas& a) {
   const int nF = ls.NumFaces();
@@ -47,59 +115,20 @@ void BakeDisplacement(const LimitSurface& ls, const std::vector<Vec3>& ctrl, con
   const LimitTessellation grid =
       a.rendererLevel > 0 ? RendererGrid(ls, ctrl, a.rendererLevel) : LimitTessellation();
   if (a.rendererLevel > 0 && grid.N == 0) a.rendererLevel = 0;
+  const TexelBake bake{ls, ctrl, ref, scene, refN, vn, grid, maxDist, normalMap};
   int misses = 0;
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : misses)
   for (int f = 0; f < nF; ++f) {
     const int R = a.tileR[f];
     for (int j = 0; j < R; ++j)
-      for (int i = 0; i < R; ++i) {
-        Vec3 n, P;
-        if (a.rendererLevel > 0) {
-          const int s = grid.N / (R - 1), g = GridVertex(grid, f, i * s, j * s);
-          P = grid.mesh.V[g];
-          n = grid.normal[g];
-        } else {
-          P = fitdetail::LimitPointNormal(ls, ctrl, f, double(i) / (R - 1), double(j) / (R - 1), &n);
-        }
-        double d = 0;
-        EmbreeScene::Hit h;
-        if (n.squaredNorm() > 0) h = fitdetail::IntersectLineOriented(scene, refN, P, n, maxDist);
-        if (h.valid) {
-          d = h.t;
-        } else {
-          ++misses;
-          h = scene.ClosestPoint(P, maxDist);
-          if (h.valid) d = (h.point - P).dot(n);
-        }
-        const size_t px = a.Pixel(f, i, j);
-        a.disp[px] = float(d);
-        if (normalMap) {
-          Vec3 nn = n;
-          if (h.valid) {
-            const auto& t = ref.F[h.face];
-            nn = (1 - h.u - h.v) * vn[t[0]] + h.u * vn[t[1]] + h.v * vn[t[2]];
-            if (nn.norm() > 0) nn.normalize();
-          }
-          for (int c = 0; c < 3; ++c)
-            a.normalRGB[px * 3 + c] = std::uint8_t(std::clamp(std::lround((nn[c] + 1) * 0.5 * 255), 0L, 255L));
-        }
-      }
+      for (int i = 0; i < R; ++i) misses += BakeTexel(bake, f, i, j, a) ? 1 : 0;
   }
   a.misses = misses;
   // One value per surface point: shared texels agree, finer edges follow coarser neighbours.
   const TexelSpace space(ls, a);
   space.Scatter(space.Gather(a), a);
   Quantize(a);
-  // Wedge UVs at the corner texels' centres; v up (OpenGL / OBJ / MeshLab), image row 0 on top.
-  a.wedgeUV.resize(nF);
-  const int cu[4] = {0, 1, 1, 0}, cvv[4] = {0, 0, 1, 1};
-  for (int f = 0; f < nF; ++f) {
-    const int R = a.tileR[f];
-    for (int c = 0; c < 4; ++c) {
-      double x = a.tileX[f] + 0.5 + cu[c] * (R - 1), y = a.tileY[f] + 0.5 + cvv[c] * (R - 1);
-      a.wedgeUV[f][c] = Eigen::Vector2d(x / a.width, 1.0 - y / a.height);
-    }
-  }
+  SetWedgeUVs(a, nF);
 }
 
 namespace {
