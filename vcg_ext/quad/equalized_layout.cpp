@@ -145,6 +145,62 @@ QuadSimplifyResult LayoutBesideCount(const Passes& ps, const QuadSimplifyParams&
   return res;
 }
 
+// The count pass's set-up (docs/quad.md "Layout"): the paper's halting without the valence term,
+// on a decimated start when the start has more than 1.25 countFaces triangles; given quads are
+// counted as they are.
+Count CountSetUp(const TriData& start, const QuadSimplifyParams& params, const std::vector<Quad>* initialQuads) {
+  Count k;
+  k.decimate = !(initialQuads && !initialQuads->empty()) && params.countFaces > 0 &&
+               int(start.F.size()) > params.countFaces + params.countFaces / 4;
+  k.params = params;
+  k.params.layout = QuadSimplifyParams::Layout::PaperHalting;
+  k.params.valenceWeight = 0;  // the paper's count
+  return k;
+}
+
+// The count pass where LayoutBesideCount did not run it (on `countStart`), and again on the real
+// start when `countStart` bounded it: a count above 1/16 of the coarse start's triangles (its
+// quads reduced less than 8x). Returns whether the count is the real start's recount; k.c holds
+// the error of a pass that failed.
+bool FinishCount(const Passes& ps, const TriData& countStart, Count& k, Progress& prog) {
+  QuadSimplifyResult& c = k.c;
+  if (!k.counted) {
+    c = ps.Run(countStart, k.params, prog.Sub(0, 30));
+    if (!c.error.empty()) return false;
+  }
+  const bool recount =
+      k.recounted || (&countStart != &ps.start && CountBoundedByStart(c.patches, long(countStart.F.size())));
+  if (recount && !k.recounted) c = ps.Run(ps.start, k.params, prog.Sub(0, 30));
+  return recount;
+}
+
+// When the count pass `c` ran on the real start mesh it is the paper's own result: whichever of
+// the two cages' interpolating limits follows the input more closely is kept (docs/quad.md
+// "Layout"). True when that is the paper's (`res` is then it, timed from t0).
+bool KeepPaperLayout(const TriData& input, const TriData& start, Clock::time_point t0, QuadSimplifyResult& c,
+                     QuadSimplifyResult& res) {
+  res.layoutRms = InterpolationRms(input, res.quads);
+  c.layoutRms = InterpolationRms(input, c.quads);
+  res.paperLayoutRms = c.layoutRms;
+  if (!(c.layoutRms < res.layoutRms)) {
+    res.equalizedLayoutRms = res.layoutRms;
+    return false;
+  }
+  const double eqRms = res.layoutRms;
+  res = std::move(c);
+  res.paperLayoutRms = res.layoutRms;
+  res.equalizedLayoutRms = eqRms;
+  res.keptPaperLayout = true;
+  res.countPatches = res.patches;
+  res.countStartFaces = int(start.F.size());
+  // (the stages then sum to the wall time: "count pass" is what the other passes added, beside
+  // this one or after it)
+  const double own = res.secondsTotal;
+  res.secondsTotal = std::chrono::duration<double>(Clock::now() - t0).count();
+  res.secondsCount = std::max(0.0, res.secondsTotal - own);
+  return true;
+}
+
 }  // namespace
 
 QuadSimplifyResult EqualizedLayout(const TriData& input, const TriData& start, const EmbreeScene& scene,
@@ -152,15 +208,8 @@ QuadSimplifyResult EqualizedLayout(const TriData& input, const TriData& start, c
                                    const QuadSimplifyParams& params, Progress& prog,
                                    const std::vector<Quad>* initialQuads) {
   const Passes ps{input, start, scene, S, M, initialQuads};
-  // Count pass (docs/quad.md "Layout"): the paper's halting on a coarse start mesh; given quads
-  // are counted as they are.
   const auto t0 = Clock::now();
-  Count k;
-  k.decimate = !(initialQuads && !initialQuads->empty()) && params.countFaces > 0 &&
-               int(start.F.size()) > params.countFaces + params.countFaces / 4;
-  k.params = params;
-  k.params.layout = QuadSimplifyParams::Layout::PaperHalting;
-  k.params.valenceWeight = 0;  // the paper's count
+  Count k = CountSetUp(start, params, initialQuads);
   QuadSimplifyResult res;
   int threads = 1;
 #ifdef _OPENMP
@@ -174,44 +223,12 @@ QuadSimplifyResult EqualizedLayout(const TriData& input, const TriData& start, c
   }
   QuadSimplifyResult& c = k.c;
   const TriData& countStart = k.decimate && k.coarse.decimated ? k.coarse.mesh : start;
-  if (!k.counted) {
-    c = ps.Run(countStart, k.params, prog.Sub(0, 30));
-    if (!c.error.empty()) return c;
-  }
-  // A count above 1/16 of the coarse start's triangles (its quads reduced less than 8x) is bounded
-  // by that start's resolution: count again on the real start mesh.
-  const bool recount = k.recounted || (&countStart != &start && CountBoundedByStart(c.patches, long(countStart.F.size())));
-  if (recount && !k.recounted) {
-    c = ps.Run(start, k.params, prog.Sub(0, 30));
-    if (!c.error.empty()) return c;
-  }
+  const bool recount = FinishCount(ps, countStart, k, prog);
+  if (!c.error.empty()) return c;
   if (res.patches == 0)  // not laid out beside the count
     res = ps.Run(start, LayoutParams(params, std::max(1, c.patches)), prog.Sub(30, 100));
   if (!res.error.empty()) return res;
-  // When the count pass ran on the real start mesh it is the paper's own result: keep whichever
-  // of the two cages' interpolating limits follows the input more closely (docs/quad.md "Layout").
-  const bool paperResult = recount || &countStart == &start;
-  if (paperResult) {
-    res.layoutRms = InterpolationRms(input, res.quads);
-    c.layoutRms = InterpolationRms(input, c.quads);
-    res.paperLayoutRms = c.layoutRms;
-    if (c.layoutRms < res.layoutRms) {
-      const double eqRms = res.layoutRms;
-      res = std::move(c);
-      res.paperLayoutRms = res.layoutRms;
-      res.equalizedLayoutRms = eqRms;
-      res.keptPaperLayout = true;
-      res.countPatches = res.patches;
-      res.countStartFaces = int(start.F.size());
-      // (the stages then sum to the wall time: "count pass" is what the other passes added,
-      // beside this one or after it)
-      const double own = res.secondsTotal;
-      res.secondsTotal = std::chrono::duration<double>(Clock::now() - t0).count();
-      res.secondsCount = std::max(0.0, res.secondsTotal - own);
-      return res;
-    }
-    res.equalizedLayoutRms = res.layoutRms;
-  }
+  if ((recount || &countStart == &start) && KeepPaperLayout(input, start, t0, c, res)) return res;
   res.countPatches = c.patches;
   res.countStartFaces = int((recount ? start : countStart).F.size());
   res.rejectedByM = c.rejectedByM;
