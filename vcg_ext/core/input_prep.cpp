@@ -186,9 +186,9 @@ void CloseSeams(const std::vector<Vec3>& V, std::vector<Tri>& F, EdgeFaces& e, s
 // 2c. Cracks: boundary vertices still near another boundary's after the seams were closed (a
 // crack or an unwelded seam wider than the weld's millionth of the diagonal) are not welded (how
 // far apart two boundaries may lie and still be one surface is the user's call) but warned about
-// from kCrackVertices on: within kCrackEdgeShare of their shortest boundary edges and of the
-// median one, sharing no edge (NearBoundaryVertices). The warning gives MeshLab's weld with a threshold above
-// the widest such gap and below the tolerance.
+// from kCrackVertices on: closer than kCrackEdgeShare of their shortest boundary edges and of the
+// median one, sharing no edge (NearBoundaryVertices). The warning gives MeshLab's weld with a
+// merging distance of 1.5 x the widest such gap, at most that tolerance.
 constexpr int kCrackVertices = 10;
 constexpr double kCrackEdgeShare = 0.1;
 void WarnOfCracks(const std::vector<Vec3>& V, const std::vector<Tri>& F, const EdgeFaces& e, WorkingCopy& w) {
@@ -201,9 +201,8 @@ void WarnOfCracks(const std::vector<Vec3>& V, const std::vector<Tri>& F, const E
                 "%d boundary vertices lie near another boundary's (up to %.3g %% of the diagonal apart, sharing no "
                 "edge): cracks or an unwelded seam, wider than the millionth of the diagonal welded here. Each stays "
                 "open, a hole in every surface fitted to it (more patches, area around it left unreached). If they "
-                "are one surface, "
-                "weld them first: Filters > Cleaning and Repairing > Merge Close Vertices with a merging distance of "
-                "%.4g (%.3g %% of the diagonal; PyMeshLab: meshing_merge_close_vertices)",
+                "are one surface, weld them first: Filters > Cleaning and Repairing > Merge Close Vertices with a "
+                "merging distance of %.4g (%.3g %% of the diagonal; PyMeshLab: meshing_merge_close_vertices)",
                 near, 100 * widest / diag, threshold, 100 * threshold / diag);
   w.warnings.push_back(buf);
   w.crackVertices = near;

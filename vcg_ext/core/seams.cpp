@@ -110,7 +110,10 @@ int NearBoundaryVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, 
   reach = share * sides[sides.size() / 2];
   const std::vector<int> verts = BoundaryVertices(F, boundarySides);
   Vec3 lo = V[size_t(verts[0])], hi = lo;
-  for (int v : verts) lo = lo.cwiseMin(V[size_t(v)]), hi = hi.cwiseMax(V[size_t(v)]);
+  for (int v : verts) {
+    lo = lo.cwiseMin(V[size_t(v)]);
+    hi = hi.cwiseMax(V[size_t(v)]);
+  }
   // gaps this far below the boundary's extent are the seam weld's (a millionth of the diagonal),
   // and the grid's cells must not be (VertexGrid)
   if (!(reach > 1e-9 * (hi - lo).norm()) || !std::isfinite(reach)) {

@@ -25,11 +25,12 @@ namespace vcgext {
 int WeldSeamVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
                      double tol, std::vector<int>& into);
 
-/// Cracks: how many ends of `boundarySides` have another such end that shares no edge with them
-/// and lies within `share` of the shorter of the two's shortest boundary sides and of the median
-/// boundary side (`reach`), but not on them: exactly coincident ends are vertices the working
-/// copy keeps apart on purpose (merging them would make the surface non-manifold). `widest`: the
-/// largest of their distances to the nearest such end.
+/// Cracks: how many ends of `boundarySides` have another such end that shares no edge with them,
+/// closer than `share` times the shorter of the two's shortest boundary sides and than `share`
+/// times the median boundary side (`reach`), but not at the same position (exactly coincident ends
+/// are vertices the working copy keeps apart on purpose: merging them would make the surface
+/// non-manifold). `widest`: the largest of their distances to their nearest such end. 0 (and
+/// `reach` 0) when the median side is 1e-9 of the boundary's extent or less.
 int NearBoundaryVertices(const std::vector<Vec3>& V, const std::vector<Tri>& F, const std::vector<int>& boundarySides,
                          double share, double& reach, double& widest);
 

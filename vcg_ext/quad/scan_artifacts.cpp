@@ -155,10 +155,13 @@ SheetShare ShareOf(const std::vector<double>& area, const std::vector<double>& d
   return s;
 }
 
-// +1 when the input's signed volume is positive (faces oriented outwards), else -1.
+// +1 when the input's signed volume is positive (faces oriented outwards), else -1. Measured
+// from the first vertex (the volume does not depend on the origin; far from it the terms cancel).
 double OutwardSign(const TriData& m) {
+  const Vec3 o = m.V.empty() ? Vec3::Zero() : m.V[0];
   double vol = 0;
-  for (const Tri& f : m.F) vol += m.V[size_t(f[0])].dot(m.V[size_t(f[1])].cross(m.V[size_t(f[2])]));
+  for (const Tri& f : m.F)
+    vol += (m.V[size_t(f[0])] - o).dot((m.V[size_t(f[1])] - o).cross(m.V[size_t(f[2])] - o));
   return vol < 0 ? -1.0 : 1.0;
 }
 }  // namespace
@@ -223,7 +226,7 @@ std::string ThinSheetWarning(const SecondSheets& s, const QuadData& cage) {
                 "%.0f %% of the input's area is a thin sheet, its other side %.3g %% of the diagonal away (median): "
                 "a patch cannot span a rim thinner than itself, so the paper's halting (the M-fitmap test) stops "
                 "the collapses early over the whole sheet and the cage has %zu patches, more than its shape needs. "
-                "Give a patch budget instead (Target patches; run_pipeline.sh --patches N)",
+                "Give a patch budget instead (Target patches; PyMeshLab: targetpatches; run_pipeline.sh --patches N)",
                 s.thin.areaPercent, 100 * s.thin.medianDistance / s.diagonal, cage.F.size());
   return buf;
 }
