@@ -322,6 +322,9 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
                                vcgext::HolesWarning(tri, r.quads), vcgext::DoubledWallWarning(sheets, r.quads),
                                p.targetPatches > 0 ? std::string() : vcgext::ThinSheetWarning(sheets, r.quads)})
     if (!w.empty()) ctx.log("Warning: Fitmap Quad Simplification: " + w);
+  // (what the warnings measure, for scripts: shares of the input's area, in %)
+  ctx.Value("thin_sheet_pct", sheets.thin.areaPercent);
+  ctx.Value("doubled_wall_pct", sheets.doubled.areaPercent);
   ctx.Value("budget_relaxations", r.budgetRelaxations);
   ctx.Value("start_refinements", r.startRefinements);
   ctx.Value("rescued_from_patches", r.rescuedFromPatches);
@@ -378,6 +381,7 @@ bool ApplyQuad(GlueContext& ctx) {
   if (!w.error.empty()) return ctx.Fail("Fitmap Quad Simplification: " + w.error);
   for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);
+  ctx.Value("crack_vertices", w.crackVertices);
   WarnIfNotSimilarity(ctx, in, "Fitmap Quad Simplification");
   const vcgext::TriData& tri = w.mesh;
   vcgext::QuadData given;

@@ -1,0 +1,56 @@
+"""What a raw scan brings (docs/robustness.md "Thin sheets", "Cracks"), from PyMeshLab: the
+simplification returns the measures its warnings are given from (`thin_sheet_pct`,
+`doubled_wall_pct`, `crack_vertices`; MeshLab 2020.09's log shows the warnings themselves:
+RunPipeline.ThinSheet*, Cracks.*), and the crack warning's advice works as PyMeshLab's own filter."""
+import numpy as np
+import pymeshlab
+
+from conftest import icosphere
+
+
+def plate_meshset(thickness):
+    """The icosphere of level 4 (diameter 2) squashed to `thickness` along z."""
+    ms = pymeshlab.MeshSet()
+    m = icosphere(4)
+    V = m.vertex_matrix() * np.array([1.0, 1.0, thickness / 2])
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "plate")
+    return ms
+
+
+def test_thin_sheet_share_is_returned():
+    # a plate 0.002 thick (0.07 % of its diagonal) is a thin sheet all over (the warning is given
+    # from 50 %); one a fifth as thick as it is wide is none, and neither has a doubled wall
+    thin = plate_meshset(0.002).generate_fitmap_quad_simplification()
+    assert thin["thin_sheet_pct"] >= 90 and thin["doubled_wall_pct"] == 0, thin
+    thick = plate_meshset(0.4).generate_fitmap_quad_simplification()
+    assert thick["thin_sheet_pct"] == 0 and thick["doubled_wall_pct"] == 0, thick
+
+
+def cracked_grid(gap):
+    """A 20 x 20 grid of the unit square whose right half has its own copies of the vertices on
+    x = 0.5, raised by `gap` (as tests/core/seams_test.cpp's CrackedGrid)."""
+    n, half = 20, 10
+    V = [(i / n, j / n, 0.0) for i in range(n + 1) for j in range(n + 1)]
+    copy = [len(V) + j for j in range(n + 1)]
+    V += [(0.5, j / n, gap) for j in range(n + 1)]
+    F = []
+    for i in range(n):
+        for j in range(n):
+            def v(a, b):
+                return copy[b] if a == half and i >= half else a * (n + 1) + b
+            F += [(v(i, j), v(i + 1, j), v(i + 1, j + 1)), (v(i, j), v(i + 1, j + 1), v(i, j + 1))]
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=np.array(V), face_matrix=np.array(F, dtype=np.int32)), "cracked")
+    return ms
+
+
+def test_crack_is_counted_and_the_advised_weld_closes_it():
+    # a crack 1e-4 wide (above the seam weld's 1e-6 of the diagonal): both sides' 21 vertices; the
+    # warning's merging distance is 1.5 x the widest gap, which PyMeshLab's weld takes as it is
+    ms = cracked_grid(1e-4)
+    assert ms.generate_fitmap_quad_simplification()["crack_vertices"] == 42
+    ms.set_current_mesh(0)
+    ms.meshing_merge_close_vertices(threshold=pymeshlab.PureValue(1.5e-4))
+    assert ms.current_mesh().vertex_number() == 21 * 21  # the copies merged
+    assert ms.generate_fitmap_quad_simplification()["crack_vertices"] == 0
+    assert cracked_grid(0.01).generate_fitmap_quad_simplification()["crack_vertices"] == 0  # a slit
