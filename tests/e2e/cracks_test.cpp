@@ -9,19 +9,19 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
 
 #include "e2e_support.h"
 #include "test_support.h"
+#include "vcg_ext/io/mesh_io.h"
 
 namespace {
 
 // `m` with the faces whose centroid lies right of the median x given their own copies of the
-// vertices they share with the others, moved by `offset`; written as OFF to `path`.
-void WriteCutInTwo(const vcgext::TriData& m, const vcgext::Vec3& offset, const std::string& path) {
+// vertices they share with the others, moved by `offset`; saved to `path` (SaveMesh's error).
+std::string WriteCutInTwo(const vcgext::TriData& m, const vcgext::Vec3& offset, const std::string& path) {
   auto centroidX = [&](const vcgext::Tri& f) { return (m.V[size_t(f[0])] + m.V[size_t(f[1])] + m.V[size_t(f[2])]).x() / 3; };
   std::vector<double> xs;
   for (const auto& f : m.F) xs.push_back(centroidX(f));
@@ -41,11 +41,9 @@ void WriteCutInTwo(const vcgext::TriData& m, const vcgext::Vec3& offset, const s
     if (centroidX(m.F[i]) > cut)
       for (int& v : out.F[i])
         if (copy[size_t(v)] >= 0) v = copy[size_t(v)];
-  std::ofstream o(path);
-  o.precision(17);
-  o << "OFF\n" << out.V.size() << " " << out.F.size() << " 0\n";
-  for (const auto& p : out.V) o << p.x() << " " << p.y() << " " << p.z() << "\n";
-  for (const auto& f : out.F) o << "3 " << f[0] << " " << f[1] << " " << f[2] << "\n";
+  vcgext::TMesh t;
+  testsupport::ToVcg(out, t);
+  return vcgext::SaveMesh(path, t);
 }
 
 // The patches the simplification's log reports ("N -> P patches"), -1 if absent.
@@ -60,7 +58,7 @@ TEST(Cracks, WarningsMergingDistanceClosesAnUnweldedSeam) {
   const vcgext::TriData fandisk = testsupport::LoadSample("fandisk.off");
   const double diag = vcgext::BBoxDiagonal(fandisk.V);
   const std::string cracked = e2e::OutPath("cracks_fandisk.off");
-  WriteCutInTwo(fandisk, 1e-5 * diag * vcgext::Vec3(1, 2, 3).normalized(), cracked);
+  ASSERT_EQ(WriteCutInTwo(fandisk, 1e-5 * diag * vcgext::Vec3(1, 2, 3).normalized(), cracked), "");
   const std::string script = e2e::Script("quad_simplification.mlx");
 
   const auto before = e2e::Meshlabserver("-i " + e2e::Q(cracked) + " -s " + e2e::Q(script));
