@@ -50,6 +50,16 @@ def icosphere(level, radius=1.0):
     return pymeshlab.Mesh(vertex_matrix=np.array(V) * radius, face_matrix=np.array(faces, dtype=np.int32))
 
 
+def scaled_icosphere_meshset(axes, level=4, offset=0.0, name="ellipsoid"):
+    """A MeshSet with one layer `name`: the icosphere of `level` scaled by `axes` (x, y, z factors)
+    and moved by `offset` along every axis."""
+    ms = pymeshlab.MeshSet()
+    m = icosphere(level)
+    V = m.vertex_matrix() * np.array(axes, float) + offset
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), name)
+    return ms
+
+
 def layers_snapshot(ms):
     """Every layer's vertices, faces and scalar, to check that a failed filter changed nothing."""
     out = []

@@ -5,17 +5,13 @@ import numpy as np
 import pymeshlab
 import pytest
 
-from conftest import PYTHON_NAMES, assert_layers_equal, icosphere, layers_snapshot
+from conftest import PYTHON_NAMES, assert_layers_equal, icosphere, layers_snapshot, scaled_icosphere_meshset
 
 
 def ellipsoid_meshset(level=4, offset=0.0):
     """A MeshSet with one layer: the icosphere of `level` scaled to the ellipsoid 1 x 0.6 x 0.4
     (the Fitmaps vary over it), moved by `offset` along every axis."""
-    ms = pymeshlab.MeshSet()
-    m = icosphere(level)
-    V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4]) + offset
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
-    return ms
+    return scaled_icosphere_meshset((1.0, 0.6, 0.4), level, offset)
 
 
 def test_every_filter_is_a_meshset_method_with_its_python_name():

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pymeshlab
 
-from conftest import icosphere
+from conftest import icosphere, scaled_icosphere_meshset
 
 # A rigid motion: 30 degrees about z, then a translation.
 C, S = np.cos(np.pi / 6), np.sin(np.pi / 6)
@@ -17,10 +17,7 @@ RIGID = np.array([[C, -S, 0, 3.0], [S, C, 0, -2.0], [0, 0, 1, 5.0], [0, 0, 0, 1]
 def ellipsoid_meshset(matrix=None):
     """One layer: the icosphere of level 4 scaled to the ellipsoid 1 x 0.6 x 0.4; with `matrix`, that
     matrix set on the layer and not frozen (the vertices stay as they are)."""
-    ms = pymeshlab.MeshSet()
-    m = icosphere(4)
-    V = m.vertex_matrix() * np.array([1.0, 0.6, 0.4])
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "ellipsoid")
+    ms = scaled_icosphere_meshset((1.0, 0.6, 0.4))
     if matrix is not None:
         ms.set_matrix(transformmatrix=matrix, freeze=False)
     return ms

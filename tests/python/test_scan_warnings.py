@@ -5,16 +5,12 @@ RunPipeline.ThinSheet*, Cracks.*), and the crack warning's advice works as PyMes
 import numpy as np
 import pymeshlab
 
-from conftest import icosphere
+from conftest import scaled_icosphere_meshset
 
 
 def plate_meshset(thickness):
     """The icosphere of level 4 (diameter 2) squashed to `thickness` along z."""
-    ms = pymeshlab.MeshSet()
-    m = icosphere(4)
-    V = m.vertex_matrix() * np.array([1.0, 1.0, thickness / 2])
-    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=m.face_matrix()), "plate")
-    return ms
+    return scaled_icosphere_meshset((1.0, 1.0, thickness / 2), name="plate")
 
 
 def test_thin_sheet_share_is_returned():
