@@ -22,17 +22,29 @@ std::string Ext(const std::string& path) {
   return e;
 }
 
-// The OFF file's text without its whitespace-only lines: vcglib's OFF tokenizer skips empty lines
-// and comments but reads a line of spaces as a line without tokens and dereferences its first
-// (a segfault on the data set's prim.off; MeshLab's reader opens it).
-bool ReadOffText(const std::string& path, std::string& text) {
+// A line of spaces, tabs or carriage returns only, not empty: vcglib's OFF tokenizer skips empty
+// lines and comments but reads such a line as one without tokens and dereferences its first (a
+// segfault on the data set's prim.off; MeshLab's reader opens it).
+bool BlankLine(const std::string& line) {
+  return !line.empty() && line.find_first_not_of(" \t\r") == std::string::npos;
+}
+
+// OFF file `path` into m: streamed by vcglib as it is (a scan of hundreds of MB is not held in
+// memory), or, when it has blank lines (BlankLine), read from its text without them.
+int OpenOff(const std::string& path, TMesh& m) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
+  if (!in) return vcg::tri::io::ImporterOFF<TMesh>::CantOpen;
+  bool blank = false;
+  for (std::string line; !blank && std::getline(in, line);) blank = BlankLine(line);
+  if (!blank) return vcg::tri::io::ImporterOFF<TMesh>::Open(m, path.c_str());
+  in.clear();
+  in.seekg(0);
   std::ostringstream out;
   for (std::string line; std::getline(in, line);)
-    if (line.find_first_not_of(" \t\r") != std::string::npos) out << line << '\n';
-  text = out.str();
-  return true;
+    if (!BlankLine(line)) out << line << '\n';
+  const std::string text = out.str();
+  int mask = 0;
+  return vcg::tri::io::ImporterOFF<TMesh>::OpenMem(m, text.data(), text.size(), mask);
 }
 }  // namespace
 
@@ -41,10 +53,7 @@ std::string LoadMesh(const std::string& path, TMesh& m) {
   const std::string e = Ext(path);
   int err = 0;
   if (e == "off") {
-    std::string text;
-    int mask = 0;
-    err = ReadOffText(path, text) ? vcg::tri::io::ImporterOFF<TMesh>::OpenMem(m, text.data(), text.size(), mask)
-                                  : int(vcg::tri::io::ImporterOFF<TMesh>::CantOpen);
+    err = OpenOff(path, m);
     if (err) return std::string("cannot read OFF ") + path + ": " + vcg::tri::io::ImporterOFF<TMesh>::ErrorMsg(err);
   } else if (e == "ply") {
     err = vcg::tri::io::ImporterPLY<TMesh>::Open(m, path.c_str());
