@@ -46,12 +46,6 @@ std::string WriteCutInTwo(const vcgext::TriData& m, const vcgext::Vec3& offset, 
   return vcgext::SaveMesh(path, t);
 }
 
-// The patches the simplification's log reports ("N -> P patches"), -1 if absent.
-int LoggedPatches(const std::string& log) {
-  std::smatch m;
-  return std::regex_search(log, m, std::regex("-> ([0-9]+) patches")) ? std::stoi(m[1]) : -1;
-}
-
 }  // namespace
 
 TEST(Cracks, WarningsMergingDistanceClosesAnUnweldedSeam) {
@@ -87,7 +81,7 @@ TEST(Cracks, WarningsMergingDistanceClosesAnUnweldedSeam) {
   const auto clean =
       e2e::Meshlabserver("-i " + e2e::Q(testsupport::SamplePath("fandisk.off")) + " -s " + e2e::Q(script));
   ASSERT_EQ(clean.exitCode, 0) << clean.output;
-  const int welded = LoggedPatches(after.output), whole = LoggedPatches(clean.output);
+  const int welded = e2e::LoggedPatches(after.output), whole = e2e::LoggedPatches(clean.output);
   ASSERT_GT(whole, 0) << clean.output;
   EXPECT_NEAR(welded, whole, 0.05 * whole) << "welded " << welded << ", clean " << whole;
 }

@@ -49,6 +49,11 @@ double JsonNumber(const std::string& json, const std::string& key) {
   return std::stod(m[1]);
 }
 
+int LoggedPatches(const std::string& log) {
+  std::smatch m;
+  return std::regex_search(log, m, std::regex("-> ([0-9]+) patches")) ? std::stoi(m[1]) : -1;
+}
+
 std::string OutPath(const std::string& name) { return testsupport::ScratchDir() + "/" + name; }
 
 std::string ScriptWithFirstFilter(const std::string& script, const std::string& filterXml, const std::string& name) {

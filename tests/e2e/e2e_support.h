@@ -29,5 +29,7 @@ std::string Q(const std::string& s);
 std::string Slurp(const std::string& path);
 /// The number after `"key":` in a JSON text (report.json is flat enough), NaN if absent.
 double JsonNumber(const std::string& json, const std::string& key);
+/// The patches the simplification's log reports ("N -> P patches"), -1 if absent.
+int LoggedPatches(const std::string& log);
 
 }  // namespace e2e
