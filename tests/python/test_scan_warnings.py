@@ -1,11 +1,12 @@
-"""What a raw scan brings (docs/robustness.md "Thin sheets", "Cracks"), from PyMeshLab: the
-simplification returns the measures its warnings are given from (`thin_sheet_pct`,
-`doubled_wall_pct`, `crack_vertices`; MeshLab 2020.09's log shows the warnings themselves:
-RunPipeline.ThinSheet*, Cracks.*), and the crack warning's advice works as PyMeshLab's own filter."""
+"""What a raw scan brings (docs/robustness.md "Thin sheets", "Cracks", "Rounded coordinates"), from
+PyMeshLab: the simplification returns the measures its warnings are given from (`thin_sheet_pct`,
+`doubled_wall_pct`, `crack_vertices`, `rounded_step_edges`; MeshLab 2020.09's log shows the
+warnings themselves: RunPipeline.ThinSheet*, Cracks.*, Rounding.*), and the crack and rounding
+warnings' advice works as PyMeshLab's own filters."""
 import numpy as np
 import pymeshlab
 
-from conftest import scaled_icosphere_meshset
+from conftest import icosphere, scaled_icosphere_meshset
 
 
 def plate_meshset(thickness):
@@ -50,3 +51,21 @@ def test_crack_is_counted_and_the_advised_weld_closes_it():
     assert ms.current_mesh().vertex_number() == 21 * 21  # the copies merged
     assert ms.generate_fitmap_quad_simplification()["crack_vertices"] == 0
     assert cracked_grid(0.01).generate_fitmap_quad_simplification()["crack_vertices"] == 0  # a slit
+
+
+def test_rounded_coordinates_step_is_returned_and_taubin_smoothing_clears_it():
+    # the icosphere of level 4 (median edge about 0.075) rounded to 0.075: corners meet, a step of
+    # about one median edge; to 0.075 / 20 none meet; PyMeshLab's Taubin smoothing (the warning's
+    # advice, its defaults) of the coarse one leaves no coordinates in steps
+    def rounded(h):
+        m = icosphere(4)
+        ms = pymeshlab.MeshSet()
+        ms.add_mesh(pymeshlab.Mesh(vertex_matrix=np.round(m.vertex_matrix() / h) * h, face_matrix=m.face_matrix()))
+        return ms
+    ms = rounded(0.075)
+    step = ms.generate_fitmap_quad_simplification()["rounded_step_edges"]
+    assert 0.8 <= step <= 1.2, step
+    ms.set_current_mesh(0)
+    ms.apply_coord_taubin_smoothing()
+    assert ms.generate_fitmap_quad_simplification()["rounded_step_edges"] == 0
+    assert rounded(0.075 / 20).generate_fitmap_quad_simplification()["rounded_step_edges"] == 0

@@ -438,6 +438,7 @@ void WarnOfRounding(const TriData& raw, WorkingCopy& w) {
                 coincident, 100.0 * coincident / double(raw.F.size()), step, step / median,
                 100 * step / BBoxDiagonal(raw.V));
   w.warnings.push_back(buf);
+  w.roundedStepEdges = step / median;
 }
 
 }  // namespace
