@@ -382,7 +382,7 @@ bool ApplyQuad(GlueContext& ctx) {
   for (const auto& n : w.notes) ctx.log("Fitmap Quad Simplification: " + n);
   for (const auto& n : w.warnings) ctx.log("Warning: Fitmap Quad Simplification: " + n);
   ctx.Value("crack_vertices", w.crackVertices);
-  ctx.Value("rounded_step_edges", w.roundedStepEdges);
+  ctx.Value("staircase_step_edges", w.staircaseStepEdges);
   WarnIfNotSimilarity(ctx, in, "Fitmap Quad Simplification");
   const vcgext::TriData& tri = w.mesh;
   vcgext::QuadData given;

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <map>
 #include <numeric>
@@ -557,49 +556,4 @@ TEST(InputPrep, WorkingCopyOfADoubleLayerIsRoundedOnlyUnderFloatPrecision) {
   ASSERT_EQ(a.mesh.V.size(), b.mesh.V.size());
   EXPECT_LT(floats(a.mesh), int(3 * a.mesh.V.size()) / 2);  // thirds are rarely floats
   EXPECT_EQ(floats(b.mesh), int(3 * b.mesh.V.size()));
-}
-
-// Coordinates rounded to a coarse step (a scan written with too few digits) make the surface a
-// staircase: warned, with the step, when the rounding made corners meet. A sphere rounded to a
-// step of one median edge is warned with that step; rounded to a twentieth of it (no corners
-// meet), or with edges collapsed but coordinates not rounded (corners meet, step 10⁻³ edges), or
-// a grid whose step is its edge (a CAD part gridded along the axes), it is not.
-namespace {
-double MedianEdge(const TriData& t) {
-  std::vector<double> l;
-  for (const auto& f : t.F)
-    for (int k = 0; k < 3; ++k) l.push_back((t.V[f[k]] - t.V[f[(k + 1) % 3]]).norm());
-  std::nth_element(l.begin(), l.begin() + l.size() / 2, l.end());
-  return l[l.size() / 2];
-}
-TriData Rounded(TriData t, double h) {
-  for (auto& p : t.V)
-    for (int k = 0; k < 3; ++k) p[k] = h * std::round(p[k] / h);
-  return t;
-}
-// The step the rounding warning gives, or -1 when there is none.
-double WarnedStep(const WorkingCopy& w) {
-  for (const std::string& s : w.warnings)
-    if (const size_t at = s.find("coordinates come in steps of "); at != std::string::npos)
-      return std::stod(s.substr(at + std::strlen("coordinates come in steps of ")));
-  return -1;
-}
-}  // namespace
-
-TEST(InputPrep, CoarselyRoundedCoordinatesAreWarnedAboutWithTheirStep) {
-  const TriData sphere = testsupport::Icosphere(4);
-  const double edge = MedianEdge(sphere);
-  const WorkingCopy coarse = vcgext::PrepareWorkingCopy(Rounded(sphere, edge));
-  EXPECT_EQ(coarse.error, "");
-  EXPECT_NEAR(WarnedStep(coarse), edge, 1e-3 * edge);  // printed to 3 digits
-  EXPECT_EQ(WarnedStep(vcgext::PrepareWorkingCopy(Rounded(sphere, edge / 20))), -1);
-
-  TriData collapsed = sphere;  // one endpoint of every 30th face's first edge moved onto the other
-  for (size_t f = 0; f < collapsed.F.size(); f += 30) collapsed.V[collapsed.F[f][1]] = collapsed.V[collapsed.F[f][0]];
-  const WorkingCopy c = vcgext::PrepareWorkingCopy(collapsed);
-  EXPECT_EQ(c.error, "");
-  EXPECT_EQ(WarnedStep(c), -1);
-
-  const TriData grid = testsupport::PlaneGrid(20, 20);  // coordinates on a grid of its edge
-  EXPECT_EQ(WarnedStep(vcgext::PrepareWorkingCopy(grid)), -1);
 }

@@ -1,6 +1,6 @@
-// Coordinates rounded to a coarse step (docs/robustness.md "Rounded coordinates"): the warning
-// reaches meshlabserver's log with the step, and its advice, MeshLab's Taubin Smooth run before the
-// same script, leaves no warning and about the clean part's cage. elephant.off rounded to 0.01
+// Coordinates rounded to a coarse step (docs/robustness.md "Rounded coordinates and voxel faces"):
+// the warning reaches meshlabserver's log with the step, and its advice, MeshLab's Taubin Smooth run
+// before the same script, leaves no warning and about the clean part's cage. elephant.off rounded to 0.01
 // (0.46 of its median edge, 0.73 % of the diagonal: what writing it with two significant digits
 // does; measured 2026-12-06: 588 patches for its 499 unsmoothed, 441 after Taubin Smooth; bunny00
 // so rounded 31 292 patches for its 381, 472 after).

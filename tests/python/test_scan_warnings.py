@@ -1,7 +1,8 @@
-"""What a raw scan brings (docs/robustness.md "Thin sheets", "Cracks", "Rounded coordinates"), from
+"""What a raw scan brings (docs/robustness.md "Thin sheets", "Cracks", "Rounded coordinates and
+voxel faces"), from
 PyMeshLab: the simplification returns the measures its warnings are given from (`thin_sheet_pct`,
-`doubled_wall_pct`, `crack_vertices`, `rounded_step_edges`; MeshLab 2020.09's log shows the
-warnings themselves: RunPipeline.ThinSheet*, Cracks.*, Rounding.*), and the crack and rounding
+`doubled_wall_pct`, `crack_vertices`, `staircase_step_edges`; MeshLab 2020.09's log shows the
+warnings themselves: RunPipeline.ThinSheet*, Cracks.*, Rounding.*), and the crack and staircase
 warnings' advice works as PyMeshLab's own filters."""
 import numpy as np
 import pymeshlab
@@ -63,9 +64,45 @@ def test_rounded_coordinates_step_is_returned_and_taubin_smoothing_clears_it():
         ms.add_mesh(pymeshlab.Mesh(vertex_matrix=np.round(m.vertex_matrix() / h) * h, face_matrix=m.face_matrix()))
         return ms
     ms = rounded(0.075)
-    step = ms.generate_fitmap_quad_simplification()["rounded_step_edges"]
+    step = ms.generate_fitmap_quad_simplification()["staircase_step_edges"]
     assert 0.8 <= step <= 1.2, step
     ms.set_current_mesh(0)
     ms.apply_coord_taubin_smoothing()
-    assert ms.generate_fitmap_quad_simplification()["rounded_step_edges"] == 0
-    assert rounded(0.075 / 20).generate_fitmap_quad_simplification()["rounded_step_edges"] == 0
+    assert ms.generate_fitmap_quad_simplification()["staircase_step_edges"] == 0
+    assert rounded(0.075 / 20).generate_fitmap_quad_simplification()["staircase_step_edges"] == 0
+
+
+def voxel_faces(radius):
+    """The boundary faces of the unit voxels inside a sphere of `radius` voxels (as
+    tests/core/staircase_test.cpp's VoxelFaces), two triangles each, outward."""
+    n = int(radius) + 2
+    r = np.arange(-n, n)
+    i, j, k = np.meshgrid(r, r, r, indexing="ij")
+    inside = (i + 0.5) ** 2 + (j + 0.5) ** 2 + (k + 0.5) ** 2 <= radius ** 2
+    quads = {(1, 0, 0): [(1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)], (-1, 0, 0): [(0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)],
+             (0, 1, 0): [(0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)], (0, -1, 0): [(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)],
+             (0, 0, 1): [(0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)], (0, 0, -1): [(0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)]}
+    ids, V, F = {}, [], []
+    padded = np.pad(inside, 1)
+    for a, b, c in zip(*np.nonzero(inside)):
+        for d, q in quads.items():
+            if padded[a + 1 + d[0], b + 1 + d[1], c + 1 + d[2]]:
+                continue
+            v = [ids.setdefault((a + x, b + y, c + z), len(ids)) for x, y, z in q]
+            F += [(v[0], v[1], v[2]), (v[0], v[2], v[3])]
+    V = np.zeros((len(ids), 3))
+    for p, index in ids.items():
+        V[index] = p
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=V, face_matrix=np.array(F, dtype=np.int32)), "voxels")
+    return ms
+
+
+def test_voxel_faces_step_is_returned_and_taubin_smoothing_clears_it():
+    # a sphere of unit voxels 24 across: steps of one voxel, one median edge; after PyMeshLab's
+    # Taubin smoothing (the warning's advice) no staircase
+    ms = voxel_faces(12)
+    assert ms.generate_fitmap_quad_simplification()["staircase_step_edges"] == 1
+    ms.set_current_mesh(0)
+    ms.apply_coord_taubin_smoothing()
+    assert ms.generate_fitmap_quad_simplification()["staircase_step_edges"] == 0

@@ -1,5 +1,6 @@
 #include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/core/seams.h"
+#include "vcg_ext/core/staircase.h"
 #include "vcg_ext/core/union_find.h"
 #include "vcg_ext/core/vertex_grid.h"
 
@@ -11,7 +12,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <limits>
 #include <mutex>
 #include <map>
 #include <numeric>
@@ -377,70 +377,6 @@ void CheckPrecision(const std::vector<Vec3>& V, WorkingCopy& w) {
                                             "Orientation > Transform: Translate, Center, set Origin)");
 }
 
-// Coordinates rounded to a coarse step (a scan written with two significant digits, a voxel
-// grid) make the surface a staircase whose steps the Fitmaps take for detail: bunny00 at two
-// digits became 31 292 patches for its 381 (and 28 775 under a budget of 400: its collapses flip).
-// Warned when the rounding shows — at least kRoundedFaces triangles, and kRoundedFaceShare of them,
-// have two corners at the same position — and the coordinates' step (CoordinateStep) is at least
-// kRoundedStepEdges of the median edge. Coincident corners alone (edges collapsed, coordinates
-// not rounded: a step of 10⁻³ edges) or a coarse grid alone (a CAD part gridded along the axes,
-// no corners meeting) are not warned. docs/robustness.md "Rounded coordinates".
-constexpr int kRoundedFaces = 10;
-constexpr double kRoundedFaceShare = 0.005, kRoundedStepEdges = 0.25;
-
-// Per axis, the median over the vertices of the gap between its coordinate and the nearest other
-// value on that axis; the smallest over the axes with two values or more (0 when none has).
-double CoordinateStep(const std::vector<Vec3>& V) {
-  double step = std::numeric_limits<double>::infinity();
-  std::vector<double> x(V.size());
-  std::vector<std::pair<double, size_t>> gaps;  // per distinct value: its gap, its vertices
-  for (int a = 0; a < 3; ++a) {
-    for (size_t i = 0; i < V.size(); ++i) x[i] = V[i][a];
-    std::sort(x.begin(), x.end());
-    gaps.clear();
-    for (size_t i = 0, j; i < x.size(); i = j) {
-      for (j = i; j < x.size() && x[j] == x[i]; ++j) {}
-      double gap = j < x.size() ? x[j] - x[i] : std::numeric_limits<double>::infinity();
-      if (i > 0) gap = std::min(gap, x[i] - x[i - 1]);
-      gaps.push_back({gap, j - i});
-    }
-    if (gaps.size() < 2) continue;
-    std::sort(gaps.begin(), gaps.end());
-    size_t seen = 0;
-    for (const auto& [gap, count] : gaps)
-      if ((seen += count) * 2 >= x.size()) { step = std::min(step, gap); break; }
-  }
-  return std::isfinite(step) ? step : 0;
-}
-
-void WarnOfRounding(const TriData& raw, WorkingCopy& w) {
-  int coincident = 0;
-  for (const Tri& f : raw.F)
-    for (int k = 0; k < 3; ++k)
-      if (f[k] != f[(k + 1) % 3] && raw.V[f[k]] == raw.V[f[(k + 1) % 3]]) { ++coincident; break; }
-  if (coincident < kRoundedFaces || coincident < kRoundedFaceShare * double(raw.F.size())) return;
-  std::vector<double> edges;
-  for (const Tri& f : raw.F)
-    for (int k = 0; k < 3; ++k)
-      if (const double l = (raw.V[f[k]] - raw.V[f[(k + 1) % 3]]).norm(); l > 0) edges.push_back(l);
-  if (edges.empty()) return;
-  std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
-  const double median = edges[edges.size() / 2], step = CoordinateStep(raw.V);
-  if (!(step >= kRoundedStepEdges * median)) return;
-  char buf[800];
-  std::snprintf(buf, sizeof buf,
-                "%d triangles (%.2g %%) have two corners at the same position and the coordinates come in steps "
-                "of %.3g (%.2g times the median edge, %.2g %% of the diagonal): they were rounded (a file written "
-                "with too few digits, or a voxel grid), which makes the surface a staircase. Its steps are fitted "
-                "as detail: far more patches, and a patch budget may not be reached. Smooth it first: Filters > "
-                "Smoothing, Fairing and Deformation > Taubin Smooth (PyMeshLab: apply_coord_taubin_smoothing), "
-                "or export the scan with more digits",
-                coincident, 100.0 * coincident / double(raw.F.size()), step, step / median,
-                100 * step / BBoxDiagonal(raw.V));
-  w.warnings.push_back(buf);
-  w.roundedStepEdges = step / median;
-}
-
 }  // namespace
 
 namespace {
@@ -542,7 +478,11 @@ WorkingCopy PrepareUncached(const TriData& raw) {
   // coordinates rounded by float precision can be the cause of the error (a far-off model whose
   // vertices collapse onto each other): say so with it
   if (!w.error.empty() && !w.warnings.empty()) w.error += " (" + w.warnings.front() + ")";
-  if (w.error.empty()) WarnOfRounding(raw, w);
+  if (w.error.empty()) {  // rounded coordinates, voxel faces (staircase.h)
+    const Staircase stairs = FindStaircase(raw, w.mesh);
+    if (const std::string warning = StaircaseWarning(stairs); !warning.empty()) w.warnings.push_back(warning);
+    w.staircaseStepEdges = stairs.StepEdges();
+  }
   return w;
 }
 }  // namespace

@@ -47,7 +47,7 @@ struct WorkingCopy {
   int seamVertices = 0;               ///< boundary vertices welded to another boundary's (seams.h)
   int closedTJunctions = 0;           ///< vertices on another face's boundary edge, split into it
   int crackVertices = 0;              ///< boundary vertices left near another boundary's (warned, not welded)
-  double roundedStepEdges = 0;        ///< coordinates' step in median edges when warned as rounded, else 0
+  double staircaseStepEdges = 0;      ///< coordinates' step in median edges when warned as a staircase, else 0
   int unreferencedVertices = 0;       ///< live vertices in no face (after dropping faces)
   int degenerateFaces = 0;            ///< faces repeating a vertex (in the layer or after merging)
   int duplicateFaces = 0;             ///< repeated faces dropped
