@@ -52,9 +52,10 @@ TriData VoxelFaces(int n, const std::function<bool(int, int, int)>& inside) {
     return it->second;
   };
   const int dir[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const int quad[6][4][3] = {{{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}},
-                             {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}, {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}},
-                             {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}};
+  const int quad[6][4][3] = {
+      {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}, {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}},
+      {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}}, {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}},
+      {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}};
   for (int i = -n; i < n; ++i)
     for (int j = -n; j < n; ++j)
       for (int k = -n; k < n; ++k) {
@@ -80,7 +81,8 @@ TEST(Staircase, CoarselyRoundedCoordinatesAreWarnedAboutWithTheirStep) {
   for (size_t f = 0; f < collapsed.F.size(); f += 30) collapsed.V[collapsed.F[f][1]] = collapsed.V[collapsed.F[f][0]];
   EXPECT_EQ(WarnedStep(collapsed), -1);  // corners meet, but the step is 10^-3 edges
   EXPECT_EQ(WarnedStep(testsupport::PlaneGrid(20, 20)), -1);  // a grid of its edge, no corners meeting
-  const vcgext::Staircase s = vcgext::FindStaircase(Rounded(sphere, edge), vcgext::PrepareWorkingCopy(Rounded(sphere, edge)).mesh);
+  const TriData rounded = Rounded(sphere, edge);
+  const vcgext::Staircase s = vcgext::FindStaircase(rounded, vcgext::PrepareWorkingCopy(rounded).mesh);
   EXPECT_TRUE(s.rounded && !s.voxels);
   EXPECT_NEAR(s.StepEdges(), 1.0, 0.05);
 }
@@ -99,9 +101,15 @@ TEST(Staircase, VoxelFacesAreWarnedAboutButNotGriddedBoxesOrSmallBlocks) {
   EXPECT_LT(s.stepEdgeShare, 0.6);
   EXPECT_DOUBLE_EQ(WarnedStep(voxels), 1.0);
   // a box of 12 x 12 x 12 voxels: the same faces and step, but steps only along its 12 edges
-  EXPECT_EQ(WarnedStep(VoxelFaces(6, [](int i, int j, int k) { return std::max({std::abs(i + 0.5), std::abs(j + 0.5), std::abs(k + 0.5)}) < 6; })), -1);
+  auto box = [](int i, int j, int k) {
+    return std::max({std::abs(i + 0.5), std::abs(j + 0.5), std::abs(k + 0.5)}) < 6;
+  };
+  EXPECT_EQ(WarnedStep(VoxelFaces(6, box)), -1);
   // a blocky cross of 3 x 3 x 3 voxels: all steps, but 4 coordinate values per axis
-  EXPECT_EQ(WarnedStep(VoxelFaces(2, [](int i, int j, int k) { return (i == 0) + (j == 0) + (k == 0) >= 2 && std::max({std::abs(i), std::abs(j), std::abs(k)}) <= 1; })), -1);
+  auto cross = [](int i, int j, int k) {
+    return (i == 0) + (j == 0) + (k == 0) >= 2 && std::max({std::abs(i), std::abs(j), std::abs(k)}) <= 1;
+  };
+  EXPECT_EQ(WarnedStep(VoxelFaces(2, cross)), -1);
   // the ellipsoid's voxels rotated off the axes: not voxel faces along the axes
   TriData turned = voxels;
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();

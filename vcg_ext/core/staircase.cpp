@@ -128,10 +128,12 @@ std::string StaircaseWarning(const Staircase& s) {
       "apply_coord_taubin_smoothing)";
   if (s.rounded)
     std::snprintf(buf, sizeof buf,
-                  "%d triangles (%.2g %%) have two corners at the same position and the coordinates come in steps of %.3g "
-                  "(%.2g times the median edge, %.2g %% of the diagonal): they were rounded (a file written with "
-                  "too few digits), which makes the surface a staircase. %s, or export the scan with more digits",
-                  s.coincidentFaces, 100.0 * s.coincidentFaces / double(s.faces), s.step, s.step / s.medianEdge, 100 * s.step / s.diagonal, advice);
+                  "%d triangles (%.2g %%) have two corners at the same position and the coordinates come in "
+                  "steps of %.3g (%.2g times the median edge, %.2g %% of the diagonal): they were rounded (a file "
+                  "written with too few digits), which makes the surface a staircase. %s, or export the scan with "
+                  "more digits",
+                  s.coincidentFaces, 100.0 * s.coincidentFaces / double(s.faces), s.step, s.step / s.medianEdge,
+                  100 * s.step / s.diagonal, advice);
   else
     std::snprintf(buf, sizeof buf,
                   "the surface is made of axis-aligned voxel faces, the coordinates come in steps of %.3g (%.2g "
