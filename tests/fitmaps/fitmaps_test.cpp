@@ -604,3 +604,46 @@ TEST(Fitmaps, ZeroAreaSliversAreFlippedOnTheWorkingResolutionAndSaid) {
   EXPECT_TRUE(r.warnings.empty());
   for (size_t i = 0; i < r.S.size(); ++i) ASSERT_TRUE(std::isfinite(r.S[i]) && std::isfinite(r.M[i]) && r.M[i] > 0) << i;
 }
+
+TEST(Fitmaps, DenseObjectOnASparseFloorIsPlannedOnCoarserLevelsWithTheSameFitmaps) {
+  // FitmapParams::fastDenseBallFactor: a dense sphere (Icosphere(4), 5 120 triangles, radius 1)
+  // on a sparse floor 60 x 60 (800 triangles) that holds most of the area: by the mean area per
+  // vertex the radii up to the sphere's size stay on level 0, where every ball holds the whole
+  // sphere (bunny00 on a floor 20 times its size: 108 s, 3.3 s with the guard). With the guard
+  // they move to coarser levels and the sphere's Fitmaps stay what they were.
+  TriData m = testsupport::Icosphere(4);
+  const int sphereVertices = int(m.V.size());
+  const int n = 20;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) m.V.push_back(Vec3(-30 + 60.0 * i / n, -1.05, -30 + 60.0 * j / n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int a = sphereVertices + i * (n + 1) + j, b = a + 1, c = a + n + 1, d = c + 1;
+      m.F.push_back({a, b, d});
+      m.F.push_back({a, d, c});
+    }
+  vcgext::EmbreeScene scene(m);
+  FitmapParams p;
+  p.fastDenseBallFactor = 0;
+  const FitmapResult plain = vcgext::ComputeFitmaps(m, scene, p);
+  const FitmapResult guarded = RunFitmaps(m, FitmapParams());
+  ASSERT_EQ(plain.error, "");
+  ASSERT_EQ(guarded.radiusLevel.size(), plain.radiusLevel.size());
+  int moved = 0;
+  for (size_t i = 0; i < plain.radiusLevel.size(); ++i) {
+    EXPECT_GE(guarded.radiusLevel[i], plain.radiusLevel[i]);
+    moved += plain.radiusLevel[i] == 0 && guarded.radiusLevel[i] > 0;
+  }
+  EXPECT_GE(moved, 1);
+  std::vector<double> rel;
+  int sameM = 0;
+  for (int v = 0; v < sphereVertices; ++v) {
+    rel.push_back(std::abs(guarded.S[v] - plain.S[v]) / std::max(1e-12, plain.S[v]));
+    sameM += guarded.M[v] == plain.M[v];
+  }
+  std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+  std::printf("sphere on a floor: %d radii moved off level 0, S median rel. diff %.4f, same M on %.1f %%\n", moved,
+              rel[rel.size() / 2], 100.0 * sameM / sphereVertices);
+  EXPECT_LT(rel[rel.size() / 2], 0.05);
+  EXPECT_GT(sameM, 0.9 * sphereVertices);
+}

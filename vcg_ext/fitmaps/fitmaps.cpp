@@ -232,6 +232,18 @@ int ReferenceValues(Context& ctx, const Level& fine, const std::vector<int>& tod
 // Fast mode's plan: the hierarchy of levels (level 0 = the mesh), for each radius the coarsest
 // level whose neighbourhood of that radius still holds about fastPointsPerFit points, and which
 // radii get their S fitted per vertex (on level levelS) instead of interpolated.
+// The 10th percentile of the vertex areas (a third of the faces' around each; vertices with none
+// left out): the area per point where the mesh is dense (0 for a mesh without area).
+double DenseVertexArea(const TriData& m, const std::vector<double>& faceArea) {
+  std::vector<double> a(m.V.size(), 0.0);
+  for (size_t f = 0; f < m.F.size(); ++f)
+    for (int v : m.F[f]) a[size_t(v)] += faceArea[f] / 3;
+  a.erase(std::remove_if(a.begin(), a.end(), [](double x) { return !(x > 0); }), a.end());
+  if (a.empty()) return 0;
+  std::nth_element(a.begin(), a.begin() + long(a.size() / 10), a.end());
+  return a[a.size() / 10];
+}
+
 struct FastPlan {
   std::vector<Level> levels;
   std::vector<int> levelOf, levelS;
@@ -246,10 +258,17 @@ FastPlan PlanFastLevels(const Context& ctx, Level fine, double r0, double rh) {
   levels.push_back(std::move(fine));
   BuildClusterFaces(m, ctx.faceArea, levels[0]);
   const double target = std::max(16, p.fastPointsPerFit);
+  const double dense = DenseVertexArea(m, ctx.faceArea);
+  // whether the ball of radius r on level 0 holds more than fastDenseBallFactor * points where
+  // the mesh is densest (FitmapParams::fastDenseBallFactor)
+  auto tooDense = [&](double r, double points) {
+    return p.fastDenseBallFactor > 0 && dense > 0 && M_PI * r * r / dense > p.fastDenseBallFactor * points;
+  };
   std::vector<int>& levelOf = plan.levelOf;
   levelOf.assign(H, 0);
   for (int i = 0; i < H; ++i) {
     const double r = ctx.radii[i];
+    const bool coarser = tooDense(r, target);
     int l = 0;
     while (true) {
       if (int(levels.size()) <= l + 1) {
@@ -263,7 +282,7 @@ FastPlan PlanFastLevels(const Context& ctx, Level fine, double r0, double rh) {
         levels.push_back(std::move(c));
       }
       const Level& nx = levels[l + 1];
-      if (M_PI * r * r / nx.areaPerPoint >= target) ++l; else break;
+      if (M_PI * r * r / nx.areaPerPoint >= target || (l == 0 && coarser)) ++l; else break;
     }
     levelOf[i] = l;
   }
@@ -278,9 +297,10 @@ FastPlan PlanFastLevels(const Context& ctx, Level fine, double r0, double rh) {
     plan.perVertexS[i] = 1;
     // the per-vertex S fits use more points than the M estimates (fastPointsPerSFit)
     const double r = ctx.radii[i];
+    const double points = std::max(16, p.fastPointsPerSFit);
     int l = 0;
     while (l + 1 < int(levels.size()) &&
-           M_PI * r * r / levels[l + 1].areaPerPoint >= std::max(16, p.fastPointsPerSFit))
+           (M_PI * r * r / levels[l + 1].areaPerPoint >= points || (l == 0 && tooDense(r, points))))
       ++l;
     plan.levelS[i] = l;
   }
