@@ -229,9 +229,6 @@ int ReferenceValues(Context& ctx, const Level& fine, const std::vector<int>& tod
   return noFit;
 }
 
-// Fast mode's plan: the hierarchy of levels (level 0 = the mesh), for each radius the coarsest
-// level whose neighbourhood of that radius still holds about fastPointsPerFit points, and which
-// radii get their S fitted per vertex (on level levelS) instead of interpolated.
 // The 10th percentile of the vertex areas (a third of the faces' around each; vertices with none
 // left out): the area per point where the mesh is dense (0 for a mesh without area).
 double DenseVertexArea(const TriData& m, const std::vector<double>& faceArea) {
@@ -244,6 +241,11 @@ double DenseVertexArea(const TriData& m, const std::vector<double>& faceArea) {
   return a[a.size() / 10];
 }
 
+// Fast mode's plan: the hierarchy of levels (level 0 = the mesh), for each radius the coarsest
+// level whose neighbourhood of that radius still holds about fastPointsPerFit points, and which
+// radii get their S fitted per vertex (on level levelS) instead of interpolated; a radius whose
+// ball would hold far more than its target where the mesh is densest leaves level 0
+// (FitmapParams::fastDenseBallFactor).
 struct FastPlan {
   std::vector<Level> levels;
   std::vector<int> levelOf, levelS;

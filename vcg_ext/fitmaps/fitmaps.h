@@ -68,7 +68,7 @@ struct FitmapParams {
   /// resolutions) a radius on level 0 is pushed to a coarser level when the ball of the dense part
   /// (the 10th percentile of the vertex areas) would hold more than this many times the target
   /// points (fastPointsPerFit, fastPointsPerSFit): without it bunny00 on a floor 20 times its size
-  /// took 110 s instead of 1.4 (every ball of r_5 held the whole bunny). 0 = off.
+  /// took 108 s instead of 1.4 (every ball of r_5 held the whole bunny). 0 = off.
   double fastDenseBallFactor = 256;
   /// Fast mode: sampled surface points per neighbourhood for the flipped-share estimate.
   int fastFlipSamples = 16;
