@@ -1,4 +1,5 @@
 #include "vcg_ext/core/staircase.h"
+#include "vcg_ext/core/edge_faces.h"
 
 #include <Eigen/Geometry>
 
@@ -76,22 +77,14 @@ double AxisAlignedShare(const TriData& t) {
 
 // Share of the edges between two triangles whose normals turn by 60° or more.
 double StepEdgeShare(const TriData& t) {
-  std::vector<std::tuple<int, int, int>> sides;  // (lower end, upper end, face)
-  sides.reserve(t.F.size() * 3);
-  for (size_t f = 0; f < t.F.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = t.F[f][k], b = t.F[f][(k + 1) % 3];
-      sides.emplace_back(std::min(a, b), std::max(a, b), int(f));
-    }
-  std::sort(sides.begin(), sides.end());
+  const EdgeFaces e = BuildEdgeFaces(t.F);
   const std::vector<Vec3> N = FaceNormals(t);
   long inner = 0, steps = 0;
-  for (size_t i = 0, j; i < sides.size(); i = j) {
-    const auto& [a, b, f] = sides[i];
-    for (j = i + 1; j < sides.size() && std::get<0>(sides[j]) == a && std::get<1>(sides[j]) == b; ++j) {}
-    if (j - i != 2) continue;
+  for (size_t id = 0; id + 1 < e.offs.size(); ++id) {
+    const int b = e.offs[id];
+    if (e.offs[id + 1] - b != 2) continue;
     ++inner;
-    steps += N[size_t(f)].dot(N[size_t(std::get<2>(sides[i + 1]))]) <= kStepCosine;
+    steps += N[size_t(e.idx[size_t(b)] / 3)].dot(N[size_t(e.idx[size_t(b) + 1] / 3)]) <= kStepCosine;
   }
   return inner > 0 ? double(steps) / double(inner) : 0;
 }
