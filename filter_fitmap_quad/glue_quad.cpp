@@ -298,6 +298,14 @@ void LogLayout(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcge
 // The coverage guard's relayout, when it ran.
 void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
                  const vcgext::TriData& tri) {
+  if (r.coverageRelayouts <= 0 && r.coverageFittedCheckPct >= 0 && r.coverageFittedCheckPct <= p.coverageUnprojectablePct) {
+    std::ostringstream k;
+    k << "Fitmap Quad Simplification: the " << r.patches << "-patch cage's interpolating limit leaves "
+      << r.layoutUnprojectablePct << " % of the input's area unreached by projection (limit " << p.coverageUnprojectablePct
+      << " %, as round the rims of small holes); fitted, it leaves " << r.coverageFittedCheckPct << " %: kept";
+    ctx.log(k.str());
+    return;
+  }
   if (r.coverageRelayouts <= 0) return;
   const double pm = 1000 / vcgext::BBoxDiagonal(tri.V);
   std::ostringstream g;
@@ -306,8 +314,9 @@ void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
     << " per mille of the diagonal from it, RMS, and leaves " << r.coverageFromUnprojectablePct
     << " % of its area unreached by projection; limits 5 tau and " << p.coverageUnprojectablePct
     << " %: the M-fitmap did not stop the collapses, as on thin closed parts, flat open ones and sharp "
-       "solids); laid out again with "
-    << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached " << r.layoutUnprojectablePct
+       "solids)";
+  if (r.coverageFittedCheckPct >= 0) g << " and, fitted, " << r.coverageFittedCheckPct << " %";
+  g << "; laid out again with " << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached " << r.layoutUnprojectablePct
     << " %)";
   ctx.log(g.str());
 }
@@ -340,6 +349,7 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
   LogLayout(ctx, r, tri);
   ctx.Value("coverage_relayouts", r.coverageRelayouts);
   if (r.layoutUnprojectablePct >= 0) ctx.Value("cage_unprojectable_pct", r.layoutUnprojectablePct);
+  if (r.coverageFittedCheckPct >= 0) ctx.Value("cage_fitted_unprojectable_pct", r.coverageFittedCheckPct);
   LogCoverage(ctx, r, p, tri);
   if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);
 }

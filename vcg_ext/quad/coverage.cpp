@@ -180,6 +180,16 @@ QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, con
   double rms = byRms ? (r.layoutRms > 0 ? r.layoutRms : c0.rms) : 0.0;
   double unproj = byArea ? c0.unreachedPct : 0.0;
   r.layoutUnprojectablePct = byArea ? unproj : -1;
+  // The area trigger alone fired: the interpolating limit's outline shrinks inside the rims of a
+  // holed scan's many small holes, which the fit pulls back out. Judged as the report will
+  // (MeasureAsReported, on when the fitted checks are: coverageFittedPct > 0): a cage whose fitted
+  // limit leaves no more than the trigger's own share unreached is kept (docs/quad.md "Coverage
+  // judged after the fit").
+  if (byArea && params.coverageFittedPct > 0 && excess(rms, 0.0) <= 1 && excess(rms, unproj) > 1) {
+    const FittedMeasure fm = MeasureAsReported(input, scene, r.quads, true);
+    r.coverageFittedCheckPct = fm.unprojectablePct;
+    if (std::isfinite(fm.rms) && fm.unprojectablePct <= params.coverageUnprojectablePct) return r;
+  }
   const int maxPatches = std::max(1, int(start.F.size()) / 4);  // half the start's quads
   // The target doubles each time; a pass can land below it (on a thin tube one collapse can
   // cascade through the doublets it leaves, cyl_capped: target 48 -> 6 patches), so a pass is
@@ -201,6 +211,7 @@ QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, con
     g.coverageFromPatches = from;
     g.coverageFromRms = fromRms;
     g.coverageFromUnprojectablePct = fromUnproj;
+    g.coverageFittedCheckPct = r.coverageFittedCheckPct;
     g.layoutUnprojectablePct = byArea ? gUnproj : -1;
     g.countPatches = r.countPatches;
     g.countStartFaces = r.countStartFaces;

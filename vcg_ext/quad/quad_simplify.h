@@ -109,7 +109,10 @@ struct QuadSimplifyParams {
   /// on the limit's boundary and off its normal: no normal line reaches them; <= 20k triangles
   /// tested). Catches flat and open shapes whose M never stops the collapses while the RMS stays
   /// low: the corpus disk's 5-patch cage leaves 9.9 % (docs/robustness.md "Flat and open
-  /// shapes"). Half the report's 1 % warning level. 0 = off.
+  /// shapes"). Half the report's 1 % warning level. When it fires alone (the RMS within) and
+  /// the fitted checks are on (coverageFittedPct > 0), the cage is fitted first and kept if its
+  /// fitted limit, measured as the report will, leaves no more than this share unreached (a holed
+  /// scan: hole rims the fit reaches; docs/quad.md "Coverage judged after the fit"). 0 = off.
   double coverageUnprojectablePct = 0.5;
   /// Equalized, no budget: a cage that keeps more than half of its start mesh's quads (the
   /// start's resolution, not the Fitmaps, decided it) or that the coverage guard could not
@@ -233,6 +236,9 @@ struct QuadSimplifyResult {
   double coverageFromRms = 0;
   double coverageFromUnprojectablePct = 0;  ///< that cage's unprojectable share (%)
   double layoutUnprojectablePct = -1;       ///< the kept cage's (guard on; -1: not measured)
+  /// The area trigger alone fired and the cage was fitted: the fitted limit's unreached share (%)
+  /// as the report measures it; at most coverageUnprojectablePct: the cage was kept (-1: no fit).
+  double coverageFittedCheckPct = -1;
   /// The coverage guard still fired on the kept cage and could not double its patches (half the
   /// start's quads): the start bounds it.
   bool coverageOutOfRoom = false;
