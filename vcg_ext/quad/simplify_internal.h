@@ -2,7 +2,8 @@
 /// \file simplify_internal.h
 /// The pieces SimplifyToQuads (quad_simplify.cpp) is built from, one concept per file:
 /// - simplifier.cpp: one simplification pass (§3.2–3.4: tri-to-quad, interpolation, collapses
-///   with local fit until the pass's halting, final checks);
+///   with local fit until the pass's halting, final checks), on the Simplifier (simplifier.h),
+///   whose steps are in simplifier_step.cpp and whose swap sweep is in swap_sweep.cpp;
 /// - equalized_layout.cpp: the default layout (the paper's count pass beside the S-cost layout
 ///   pass, docs/quad.md "Layout");
 /// - budget_ladder.cpp: a patch budget and its retries (docs/quad.md "Budget ladder");
