@@ -1,0 +1,66 @@
+// A holed scan stored in another face order (docs/quad.md "Coverage judged after the fit"): the
+// same surface must give about the same cage. elephant.off with every 50th face deleted (holes
+// sharing no vertex, ~2 % of the faces), once as it is and once with every 20th face stored
+// reversed (the working copy turns them back; each then starts at another corner). The coverage
+// guard's area trigger fires on both (the interpolating limit's outline shrinks inside the hole
+// rims); judged on the fitted limit, both cages are kept instead of one being laid out again with
+// twice the patches (found on the breakage runs' holed elephant: 689 patches as stored, 1 330 with
+// 5 % of its faces reversed). Measured 2026-12-06: 659 and 698 patches. The bound, 15 %, is the
+// spread another order gives on clean scans (docs/robustness.md "Another vertex and face order":
+// -5 ... +14 %).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "e2e_support.h"
+#include "test_support.h"
+#include "vcg_ext/io/mesh_io.h"
+
+namespace {
+// elephant.off with every 50th face deleted where no neighbouring hole shares its corners;
+// reverse: every 20th remaining face stored with the opposite orientation, (a, b, c) as (c, b, a)
+// (turned back, it starts at another corner than before).
+std::string HoledElephant(bool reverse, const std::string& name) {
+  const vcgext::TriData full = testsupport::LoadSample("elephant.off");
+  vcgext::TriData holed;
+  holed.V = full.V;
+  std::vector<char> onHole(full.V.size(), 0);
+  for (size_t f = 0; f < full.F.size(); ++f) {
+    const auto& t = full.F[f];
+    if (f % 50 == 25 && !onHole[t[0]] && !onHole[t[1]] && !onHole[t[2]]) {
+      for (int c = 0; c < 3; ++c) onHole[t[c]] = 1;
+      continue;
+    }
+    holed.F.push_back(t);
+  }
+  if (reverse)
+    for (size_t f = 7; f < holed.F.size(); f += 20) std::swap(holed.F[f][0], holed.F[f][2]);
+  vcgext::TMesh m;
+  testsupport::ToVcg(holed, m);
+  const std::string path = e2e::OutPath(name);
+  EXPECT_EQ(vcgext::SaveMesh(path, m), "");
+  return path;
+}
+}  // namespace
+
+TEST(HolesOrder, HoledScanGivesAboutTheSameCageInAnotherFaceOrder) {
+  const std::string script = e2e::Script("quad_simplification.mlx");
+  int patches[2] = {0, 0};
+  for (int reverse = 0; reverse < 2; ++reverse) {
+    const std::string in = HoledElephant(reverse, reverse ? "holed_elephant_reversed.off" : "holed_elephant.off");
+    const auto r = e2e::Meshlabserver("-i " + e2e::Q(in) + " -s " + e2e::Q(script));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    if (reverse) {
+      EXPECT_NE(r.output.find("re-oriented"), std::string::npos) << r.output;
+    }
+    // the guard's area trigger fired and the fitted limit reached the input: no relayout
+    EXPECT_NE(r.output.find("fitted, it leaves"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("laid out again with"), std::string::npos) << r.output;
+    patches[reverse] = e2e::LoggedPatches(r.output);
+    ASSERT_GT(patches[reverse], 0) << r.output;
+  }
+  std::printf("holed elephant: %d patches as stored, %d with every 20th face reversed\n", patches[0], patches[1]);
+  EXPECT_LE(std::max(patches[0], patches[1]), 1.15 * std::min(patches[0], patches[1]));
+}
