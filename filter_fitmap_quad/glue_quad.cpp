@@ -298,11 +298,13 @@ void LogLayout(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcge
 // The coverage guard's relayout, when it ran.
 void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vcgext::QuadSimplifyParams& p,
                  const vcgext::TriData& tri) {
-  if (r.coverageRelayouts <= 0 && r.coverageFittedCheckPct >= 0 && r.coverageFittedCheckPct <= p.coverageUnprojectablePct) {
+  const bool keptFitted = r.coverageFittedCheckPct >= 0 && r.coverageFittedCheckPct <= p.coverageUnprojectablePct;
+  if (r.coverageRelayouts <= 0 && keptFitted) {
     std::ostringstream k;
     k << "Fitmap Quad Simplification: the " << r.patches << "-patch cage's interpolating limit leaves "
-      << r.layoutUnprojectablePct << " % of the input's area unreached by projection (limit " << p.coverageUnprojectablePct
-      << " %, as round the rims of small holes); fitted, it leaves " << r.coverageFittedCheckPct << " %: kept";
+      << r.layoutUnprojectablePct << " % of the input's area unreached by projection (limit "
+      << p.coverageUnprojectablePct << " %, as round the rims of small holes); fitted, it leaves "
+      << r.coverageFittedCheckPct << " %: kept";
     ctx.log(k.str());
     return;
   }
@@ -316,8 +318,8 @@ void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
     << " %: the M-fitmap did not stop the collapses, as on thin closed parts, flat open ones and sharp "
        "solids)";
   if (r.coverageFittedCheckPct >= 0) g << " and, fitted, " << r.coverageFittedCheckPct << " %";
-  g << "; laid out again with " << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached " << r.layoutUnprojectablePct
-    << " %)";
+  g << "; laid out again with " << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached "
+    << r.layoutUnprojectablePct << " %)";
   ctx.log(g.str());
 }
 

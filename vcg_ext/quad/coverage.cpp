@@ -186,8 +186,10 @@ QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, con
   // limit leaves no more than the trigger's own share unreached is kept (docs/quad.md "Coverage
   // judged after the fit").
   if (byArea && params.coverageFittedPct > 0 && excess(rms, 0.0) <= 1 && excess(rms, unproj) > 1) {
+    const auto t0 = Clock::now();
     const FittedMeasure fm = MeasureAsReported(input, scene, r.quads, true);
     r.coverageFittedCheckPct = fm.unprojectablePct;
+    r.secondsTotal += Since(t0);  // one fit of the input, as the fit filter's
     if (std::isfinite(fm.rms) && fm.unprojectablePct <= params.coverageUnprojectablePct) return r;
   }
   const int maxPatches = std::max(1, int(start.F.size()) / 4);  // half the start's quads
