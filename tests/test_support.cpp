@@ -86,6 +86,21 @@ vcgext::TriData Icosphere(int level, double r) {
   return m;
 }
 
+vcgext::TriData WithIsolatedHoles(const vcgext::TriData& m, int every) {
+  vcgext::TriData holed;
+  holed.V = m.V;
+  std::vector<char> onHole(m.V.size(), 0);
+  for (size_t f = 0; f < m.F.size(); ++f) {
+    const auto& t = m.F[f];
+    if (int(f % every) == every / 2 && !onHole[t[0]] && !onHole[t[1]] && !onHole[t[2]]) {
+      for (int c = 0; c < 3; ++c) onHole[t[c]] = 1;
+      continue;
+    }
+    holed.F.push_back(t);
+  }
+  return holed;
+}
+
 vcgext::TriData SphereWithHoles(int k) {
   vcgext::TriData s = Icosphere(4);
   std::vector<int> centres;

@@ -34,6 +34,10 @@ vcgext::TriData Icosphere(int level, double r = 1.0);
 /// Icosphere(4) (2 562 vertices, edges of about 0.075) with the one-rings of k vertices at least
 /// 0.3 apart removed: k holes of about 0.15 across (the corpus's scan_holes.off has 30).
 vcgext::TriData SphereWithHoles(int k);
+/// Mesh m with every `every`-th face (from every/2 on) deleted where no hole made before shares
+/// one of its corners: one-triangle holes that share no vertex, so the mesh stays manifold (a holed
+/// scan; elephant.off at 50: ~2 % of the faces, as the breakage runs' holed variants).
+vcgext::TriData WithIsolatedHoles(const vcgext::TriData& m, int every);
 /// UV sphere: n longitudes, m latitude bands, one vertex per pole (valence n), outward faces.
 vcgext::TriData UvSphere(int n, int m);
 /// A face's corner cycle rotated so that its smallest index comes first (orientation kept): equal

@@ -23,18 +23,7 @@ namespace {
 // reverse: every 20th remaining face stored with the opposite orientation, (a, b, c) as (c, b, a)
 // (turned back, it starts at another corner than before).
 std::string HoledElephant(bool reverse, const std::string& name) {
-  const vcgext::TriData full = testsupport::LoadSample("elephant.off");
-  vcgext::TriData holed;
-  holed.V = full.V;
-  std::vector<char> onHole(full.V.size(), 0);
-  for (size_t f = 0; f < full.F.size(); ++f) {
-    const auto& t = full.F[f];
-    if (f % 50 == 25 && !onHole[t[0]] && !onHole[t[1]] && !onHole[t[2]]) {
-      for (int c = 0; c < 3; ++c) onHole[t[c]] = 1;
-      continue;
-    }
-    holed.F.push_back(t);
-  }
+  vcgext::TriData holed = testsupport::WithIsolatedHoles(testsupport::LoadSample("elephant.off"), 50);
   if (reverse)
     for (size_t f = 7; f < holed.F.size(); f += 20) std::swap(holed.F[f][0], holed.F[f][2]);
   vcgext::TMesh m;

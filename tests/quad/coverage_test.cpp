@@ -348,18 +348,7 @@ TEST(Coverage, CoverFittedAreaRelaysACageThatLeavesTheInputUnreached) {
 // (coverageFittedPct 0) it is not fitted at all; when the RMS trigger fires the fit does not
 // second-guess it.
 TEST(Coverage, AreaTriggerKeepsACageWhoseFittedLimitReachesTheInput) {
-  const vcgext::TriData full = testsupport::LoadSample("elephant.off");
-  vcgext::TriData holed;  // one-triangle holes that share no vertex: the mesh stays manifold
-  holed.V = full.V;
-  std::vector<char> onHole(full.V.size(), 0);
-  for (size_t f = 0; f < full.F.size(); ++f) {
-    const auto& t = full.F[f];
-    if (f % 50 == 25 && !onHole[t[0]] && !onHole[t[1]] && !onHole[t[2]]) {
-      for (int c = 0; c < 3; ++c) onHole[t[c]] = 1;
-      continue;
-    }
-    holed.F.push_back(t);
-  }
+  const vcgext::TriData holed = testsupport::WithIsolatedHoles(testsupport::LoadSample("elephant.off"), 50);
   std::vector<double> S, M;
   SyntheticFitmaps(holed, S, M);
   const vcgext::EmbreeScene scene(holed);
