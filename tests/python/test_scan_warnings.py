@@ -4,10 +4,12 @@ PyMeshLab: the simplification returns the measures its warnings are given from (
 `doubled_wall_pct`, `crack_vertices`, `staircase_step_edges`; MeshLab 2020.09's log shows the
 warnings themselves: RunPipeline.ThinSheet*, Cracks.*, Rounding.*), and the crack and staircase
 warnings' advice works as PyMeshLab's own filters."""
+import json
+
 import numpy as np
 import pymeshlab
 
-from conftest import icosphere, scaled_icosphere_meshset
+from conftest import DATA, icosphere, scaled_icosphere_meshset
 
 
 def plate_meshset(thickness):
@@ -113,8 +115,6 @@ def test_holed_scan_cage_is_judged_on_its_fitted_limit(tmp_path):
     # coverage guard's area trigger fires on the interpolating limit's outline round the hole rims,
     # the cage is fitted once, leaves less than 0.5 % unreached and is kept without a relayout
     # (docs/quad.md "Coverage judged after the fit"); that share is the fit filter's report's own
-    from conftest import DATA
-    import json
     src = pymeshlab.MeshSet()
     src.load_new_mesh(str(DATA / "elephant.off"))
     V, F = src.current_mesh().vertex_matrix(), src.current_mesh().face_matrix()
