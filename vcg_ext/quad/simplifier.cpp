@@ -8,7 +8,6 @@
 
 #include "vcg_ext/quad/simplifier.h"
 #include "vcg_ext/quad/tri_to_quad.h"
-#include "vcg_ext/subdiv/limit_surface.h"
 
 namespace vcgext {
 namespace simplify_internal {
