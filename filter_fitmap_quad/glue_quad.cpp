@@ -319,7 +319,9 @@ void LogCoverage(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
        "solids)";
   if (r.coverageFittedCheckPct >= 0) g << " and, fitted, " << r.coverageFittedCheckPct << " %";
   g << "; laid out again with " << r.patches << " patches (RMS " << r.layoutRms * pm << " per mille, unreached "
-    << r.layoutUnprojectablePct << " %)";
+    << r.layoutUnprojectablePct << " %";
+  if (r.layoutFittedUnprojectablePct >= 0) g << ", fitted " << r.layoutFittedUnprojectablePct << " %";
+  g << ")";
   ctx.log(g.str());
 }
 
@@ -352,6 +354,8 @@ void ReportQuads(GlueContext& ctx, const vcgext::QuadSimplifyResult& r, const vc
   ctx.Value("coverage_relayouts", r.coverageRelayouts);
   if (r.layoutUnprojectablePct >= 0) ctx.Value("cage_unprojectable_pct", r.layoutUnprojectablePct);
   if (r.coverageFittedCheckPct >= 0) ctx.Value("cage_fitted_unprojectable_pct", r.coverageFittedCheckPct);
+  if (r.layoutFittedUnprojectablePct >= 0)
+    ctx.Value("relaid_cage_fitted_unprojectable_pct", r.layoutFittedUnprojectablePct);
   LogCoverage(ctx, r, p, tri);
   if (!r.message.empty()) ctx.log("Fitmap Quad Simplification: " + r.message);
 }

@@ -344,9 +344,10 @@ TEST(Coverage, CoverFittedAreaRelaysACageThatLeavesTheInputUnreached) {
 // breakage runs' holed scans; holes sharing no vertex), its cage with the guard off: the
 // interpolating limit leaves more of it unreached than the fitted one (measured 1.02 % and 0.28 %).
 // With the trigger's share between the two the cage is fitted once and kept as it is; below the
-// fitted share the guard lays it out again as before; with the fitted checks off
-// (coverageFittedPct 0) it is not fitted at all; when the RMS trigger fires the fit does not
-// second-guess it.
+// fitted share the guard lays it out again, judging each pass on its fitted limit and growing the
+// patches by the excess squared (1.25x here, not doubled); with the fitted checks off
+// (coverageFittedPct 0) it is not fitted at all and the patches double; when the RMS trigger fires
+// the fit does not second-guess it.
 TEST(Coverage, AreaTriggerKeepsACageWhoseFittedLimitReachesTheInput) {
   const vcgext::TriData holed = testsupport::WithIsolatedHoles(testsupport::LoadSample("elephant.off"), 50);
   std::vector<double> S, M;
@@ -377,17 +378,29 @@ TEST(Coverage, AreaTriggerKeepsACageWhoseFittedLimitReachesTheInput) {
   EXPECT_NEAR(kept.coverageFittedCheckPct, fitted, 1e-9);  // the report's measure
   EXPECT_NEAR(kept.layoutUnprojectablePct, interp, 1e-9);
 
-  // a trigger below the fitted share: laid out again with more patches, as before
-  const vcgext::QuadSimplifyResult relaid = guard(0.5 * fitted, 1, 50);
+  // a trigger a little below the fitted share (excess 1.1): laid out again, judged on the fitted
+  // limit, with the patches grown by the excess squared, at least 1.25x (not doubled)
+  const double trigger = fitted / 1.1;
+  const vcgext::QuadSimplifyResult relaid = guard(trigger, 1, 50);
   EXPECT_NEAR(relaid.coverageFittedCheckPct, fitted, 1e-9);
   EXPECT_GE(relaid.coverageRelayouts, 1);
   EXPECT_GT(relaid.patches, coarse.patches);
+  EXPECT_LE(relaid.layoutFittedUnprojectablePct, trigger);  // judged on the fitted limit
+  EXPECT_NEAR(relaid.layoutFittedUnprojectablePct, si::MeasureAsReported(holed, scene, relaid.quads, true).unprojectablePct,
+              1e-9);  // the report's measure, on the cage kept
   ExpectGuarantees(holed, relaid);
 
-  // the fitted checks off: no fit, the same relayout
-  const vcgext::QuadSimplifyResult unfitted = guard(0.5 * fitted, 0, 50);
+  // the fitted checks off: no fit, judged on the interpolating limit, the patches doubled
+  const vcgext::QuadSimplifyResult unfitted = guard(trigger, 0, 50);
   EXPECT_EQ(unfitted.coverageFittedCheckPct, -1);
-  EXPECT_EQ(unfitted.patches, relaid.patches);
+  EXPECT_EQ(unfitted.layoutFittedUnprojectablePct, -1);
+  EXPECT_GT(unfitted.patches, 1.8 * coarse.patches);  // (its interpolating limit stays above the trigger)
+  EXPECT_LT(relaid.patches, unfitted.patches);
+  if (relaid.coverageRelayouts == 1) {  // one step of 1.25x: a pass lands near its target (2 %)
+    EXPECT_NEAR(relaid.patches, 1.25 * coarse.patches, 0.05 * coarse.patches);
+  }
+  std::printf("relaid: %d patches (%d passes, fitted %.3f %%); unfitted: %d patches\n", relaid.patches,
+              relaid.coverageRelayouts, relaid.layoutFittedUnprojectablePct, unfitted.patches);
 
   // the RMS trigger fires too (a limit of 1e-3 per mille): laid out again, no fit
   const vcgext::QuadSimplifyResult byRms = guard(0.5 * (fitted + interp), 1, 1e-3);

@@ -183,38 +183,57 @@ QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, con
   // The area trigger alone fired: the interpolating limit's outline shrinks inside the rims of a
   // holed scan's many small holes, which the fit pulls back out. Judged as the report will
   // (MeasureAsReported, on when the fitted checks are: coverageFittedPct > 0): a cage whose fitted
-  // limit leaves no more than the trigger's own share unreached is kept (docs/quad.md "Coverage
-  // judged after the fit").
+  // limit leaves no more than the trigger's own share unreached is kept; one that leaves more is
+  // laid out again, each pass judged on its fitted limit too (docs/quad.md "Coverage judged after
+  // the fit").
+  bool fitted = false;
   if (byArea && params.coverageFittedPct > 0 && excess(rms, 0.0) <= 1 && excess(rms, unproj) > 1) {
     const auto t0 = Clock::now();
     const FittedMeasure fm = MeasureAsReported(input, scene, r.quads, true);
     r.coverageFittedCheckPct = fm.unprojectablePct;
     r.secondsTotal += Since(t0);  // one fit of the input, as the fit filter's
     if (std::isfinite(fm.rms) && fm.unprojectablePct <= params.coverageUnprojectablePct) return r;
+    fitted = std::isfinite(fm.rms) && fm.unprojectablePct >= 0;
   }
+  // the unreached share the guard judges: the fitted limit's once the cage was fitted
+  double judged = fitted ? r.coverageFittedCheckPct : unproj;
   const int maxPatches = std::max(1, int(start.F.size()) / 4);  // half the start's quads
-  // The target doubles each time; a pass can land below it (on a thin tube one collapse can
-  // cascade through the doublets it leaves, cyl_capped: target 48 -> 6 patches), so a pass is
-  // kept only when it comes closer to covering the input.
+  // The target doubles each time, or, judged on the fitted limit, grows by the square of the
+  // excess (the rims' unreached bands narrow as the patches' side, 1/sqrt(patches)) between 1.25x
+  // and 2x. A pass can land below its target (on a thin tube one collapse can cascade through the
+  // doublets it leaves, cyl_capped: target 48 -> 6 patches), so a pass is kept only when it comes
+  // closer to covering the input.
+  auto next = [&](int t) {
+    const double e = excess(rms, judged), grow = fitted ? std::clamp(e * e, 1.25, 2.0) : 2.0;
+    return std::max(t + 1, int(std::lround(grow * t)));
+  };
   int target = r.patches;
   const int from = r.patches;
   const double fromRms = rms, fromUnproj = unproj;
-  for (int k = 0; k < 8 && excess(rms, unproj) > 1 && 2 * target <= maxPatches; ++k) {
-    target *= 2;
+  for (int k = 0; k < 8 && excess(rms, judged) > 1 && next(target) <= maxPatches; ++k) {
+    target = next(target);
     QuadSimplifyResult g =
         SimplifyOnce(input, start, scene, S, M, LayoutParams(params, target), prog.Sub(90, 100), initialQuads);
     if (!g.error.empty()) break;
     const Coverage gc = InterpolationCoverage(input, g.quads, byArea);
     g.layoutRms = gc.rms;
     const double gUnproj = byArea ? gc.unreachedPct : 0.0;
+    double gFitted = -1;  // judged on its fitted limit unless the RMS trigger fires on it
+    if (fitted && excess(byRms ? g.layoutRms : 0.0, 0.0) <= 1) {
+      const auto t0 = Clock::now();
+      gFitted = MeasureAsReported(input, scene, g.quads, true).unprojectablePct;
+      g.secondsTotal += Since(t0);
+    }
+    const double gJudged = gFitted >= 0 ? gFitted : gUnproj;
     r.secondsTotal += g.secondsTotal;
-    if (!(excess(byRms ? g.layoutRms : 0.0, gUnproj) < excess(rms, unproj))) continue;
+    if (!(excess(byRms ? g.layoutRms : 0.0, gJudged) < excess(rms, judged))) continue;
     g.coverageRelayouts = k + 1;
     g.coverageFromPatches = from;
     g.coverageFromRms = fromRms;
     g.coverageFromUnprojectablePct = fromUnproj;
     g.coverageFittedCheckPct = r.coverageFittedCheckPct;
     g.layoutUnprojectablePct = byArea ? gUnproj : -1;
+    g.layoutFittedUnprojectablePct = gFitted;
     g.countPatches = r.countPatches;
     g.countStartFaces = r.countStartFaces;
     g.rejectedByM = r.rejectedByM;
@@ -224,9 +243,10 @@ QuadSimplifyResult CoverageGuard(const TriData& input, const TriData& start, con
     g.secondsTotal = r.secondsTotal;
     rms = byRms ? g.layoutRms : 0.0;
     unproj = gUnproj;
+    judged = gJudged;
     r = std::move(g);
   }
-  r.coverageOutOfRoom = excess(rms, unproj) > 1 && 2 * target > maxPatches;
+  r.coverageOutOfRoom = excess(rms, judged) > 1 && next(target) > maxPatches;
   return r;
 }
 

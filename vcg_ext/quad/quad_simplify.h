@@ -112,7 +112,9 @@ struct QuadSimplifyParams {
   /// shapes"). Half the report's 1 % warning level. When it fires alone (the RMS within) and
   /// the fitted checks are on (coverageFittedPct > 0), the cage is fitted first and kept if its
   /// fitted limit, measured as the report will, leaves no more than this share unreached (a holed
-  /// scan: hole rims the fit reaches; docs/quad.md "Coverage judged after the fit"). 0 = off.
+  /// scan: hole rims the fit reaches); otherwise each relayout is judged on its fitted limit and
+  /// grows the patches by the excess squared, 1.25x to 2x (docs/quad.md "Coverage judged after
+  /// the fit"). 0 = off.
   double coverageUnprojectablePct = 0.5;
   /// Equalized, no budget: a cage that keeps more than half of its start mesh's quads (the
   /// start's resolution, not the Fitmaps, decided it) or that the coverage guard could not
@@ -239,6 +241,9 @@ struct QuadSimplifyResult {
   /// The area trigger alone fired and the cage was fitted: the fitted limit's unreached share (%)
   /// as the report measures it; at most coverageUnprojectablePct: the cage was kept (-1: no fit).
   double coverageFittedCheckPct = -1;
+  /// That fit left more: the cage the guard laid out again, fitted, leaves this share (%) (-1: the
+  /// guard judged the interpolating limit, or did not lay out again).
+  double layoutFittedUnprojectablePct = -1;
   /// The coverage guard still fired on the kept cage and could not double its patches (half the
   /// start's quads): the start bounds it.
   bool coverageOutOfRoom = false;
