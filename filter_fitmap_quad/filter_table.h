@@ -51,6 +51,7 @@ inline const char* kGuard = "thinPartGuard";              ///< float, fraction o
 inline const char* kValidate = "validateEveryOperation";  ///< bool (test mode)
 inline const char* kWorkingFaces = "workingFaces";        ///< int, triangles of M' (0 = the full input)
 inline const char* kFirstWorkingFaces = "firstWorkingFaces";  ///< int, a dense input's first start (0 = none)
+inline const char* kCloseHoles = "closeHoles";  ///< float, % of the bbox diagonal: holes closed for the layout (0 = none)
 // Fit Catmull-Clark Surface and Bake Displacement
 inline const char* kReferenceMesh = "referenceMesh";      ///< mesh (layer position in .mlx)
 inline const char* kLimitSegments = "limitSegments";      ///< int, N per patch side

@@ -14,6 +14,7 @@
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fitmaps/fitmaps.h"
+#include "vcg_ext/quad/close_holes.h"
 #include "vcg_ext/quad/scan_artifacts.h"
 #include "vcg_ext/quad/quad_simplify.h"
 #include "vcg_ext/quad/working_start.h"
@@ -87,6 +88,14 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
                        "working resolution only when that start limited the result (a count above 1/16 of "
                        "its triangles, or a missed target). About a third faster on dense scans, the "
                        "same errors on average; 0 = always the working resolution (docs/multires.md)."));
+  par.addParam(RichFloat(param::kCloseHoles, float(vcgext::CloseHolesParams().maxDiagonalPercent),
+                         "Close small holes for the layout (% of diagonal, 0 = none)",
+                         "Beyond the paper: the layer's holes smaller than this share of its bounding-box "
+                         "diagonal (and any of at most 6 edges) are closed in the simplification's working "
+                         "copy (vcglib's ear cutting, as Close Holes), so the cage is laid out across them as "
+                         "across the surface around instead of keeping a ring of patches round each; the fit, "
+                         "the displacement and every reported error still refer to the layer as it is. "
+                         "0 = every hole stays a hole of the cage (docs/robustness.md, Many small holes)."));
   par.addParam(RichBool(param::kValidate, d.validateEveryOperation, "Validate every operation (slow)",
                         "Test mode: full mesh validity check after every local operation."));
 }
@@ -107,9 +116,11 @@ vcgext::StartMeshParams BudgetStartParams(int workingFaces, int targetPatches, i
   return {startFaces, kDefaultFitmapsWorkingFaces, minFaces, kMaxStartValence};
 }
 
-// The filter's parameters as QuadSimplifyParams (and tau, the working resolution); false after
+// The filter's parameters as QuadSimplifyParams (and tau, the working resolution, the holes to
+// close); false after
 // ctx.Fail on a value out of range.
-bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, int& workingFaces, int& firstFaces) {
+bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, int& workingFaces, int& firstFaces,
+                double& closeHolesPct) {
   tau = ctx.par.getFloat(param::kTau);
   p.targetPatches = ctx.par.getInt(param::kTargetPatches);
   p.useMFitmap = ctx.par.getBool(param::kUseMFitmap);
@@ -133,6 +144,8 @@ bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, in
   p.rescueRmsPermille = 10.0 * tau;
   workingFaces = ctx.par.getInt(param::kWorkingFaces);
   if (workingFaces < 0) return ctx.Fail("the working resolution must be >= 0 triangles");
+  closeHolesPct = ctx.par.getFloat(param::kCloseHoles);
+  if (!(closeHolesPct >= 0 && closeHolesPct <= 100)) return ctx.Fail("close small holes must be in [0, 100] percent");
   firstFaces = ctx.par.getInt(param::kFirstWorkingFaces);
   if (firstFaces < 0) return ctx.Fail("the first start of a dense input must be >= 0 triangles");
   if (!(p.deviationFactor >= 0 && p.deviationFactor <= 100)) return ctx.Fail("the thin-part guard must be in [0, 100]");
@@ -167,6 +180,25 @@ bool LayerQuads(GlueContext& ctx, MeshModel& in, vcgext::WorkingCopy& w, int tar
                            "): simplifying its triangles");
   }
   return useQuads;
+}
+
+// The layer's small holes closed in the working copy (close_holes.h): the simplification, its
+// Fitmaps when computed here and its warnings see the closed copy; the fit filter the layer.
+void CloseHolesForLayout(GlueContext& ctx, vcgext::WorkingCopy& w, double maxDiagonalPercent) {
+  vcgext::CloseHolesParams cp;
+  cp.maxDiagonalPercent = maxDiagonalPercent;
+  const vcgext::CloseHolesResult c = vcgext::CloseSmallHoles(w, cp);
+  ctx.Value("closed_holes", c.closed);
+  if (!c.refused.empty())
+    ctx.log("Warning: Fitmap Quad Simplification: the small holes were left open (" + c.refused + ")");
+  if (c.closed == 0) return;
+  std::ostringstream n;
+  n << "Fitmap Quad Simplification: closed " << c.closed << " of the layer's " << c.holes << " holes for the layout ("
+    << c.closedAreaPct << " % of its area; those below " << maxDiagonalPercent
+    << " % of the diagonal or of at most 6 edges" << (c.skipped ? ", " + std::to_string(c.skipped) + " left open"
+                                                                   : std::string())
+    << "): the cage spans them, the fit and its report refer to the layer as it is";
+  ctx.log(n.str());
 }
 
 // The Fitmaps on the working copy: the layer's if computed with this tau (`fromLayer`), else
@@ -387,7 +419,8 @@ bool ApplyQuad(GlueContext& ctx) {
   vcgext::QuadSimplifyParams p;
   double tau = 0;
   int workingFaces = 0, firstFaces = 0;
-  if (!QuadParams(ctx, p, tau, workingFaces, firstFaces)) return false;
+  double closeHolesPct = 0;
+  if (!QuadParams(ctx, p, tau, workingFaces, firstFaces, closeHolesPct)) return false;
   if (p.layoutTrials > 1 && !vcgext::BudgetLayout(p))
     ctx.log("Warning: Fitmap Quad Simplification: layout trials need a target patch count (and the equalized "
             "layout): one layout");
@@ -403,6 +436,7 @@ bool ApplyQuad(GlueContext& ctx) {
   const vcgext::TriData& tri = w.mesh;
   vcgext::QuadData given;
   const bool useQuads = LayerQuads(ctx, in, w, p.targetPatches, given);
+  if (!useQuads) CloseHolesForLayout(ctx, w, closeHolesPct);
   vcgext::EmbreeScene scene(tri);
   if (!scene.Ok()) return ctx.Fail(scene.Error());
 

@@ -69,8 +69,6 @@ std::string DebrisWarning(const QuadData& cage, double inputDiag) {
   return buf;
 }
 
-namespace {
-// Bounding-box diagonal of each vertex's piece, by vertex (0 for a vertex in no face).
 std::vector<double> PieceDiagonals(const TriData& m) {
   Pieces pieces = FindPieces(m.V, m.F);
   std::vector<double> diag(m.V.size(), 0.0);
@@ -81,7 +79,6 @@ std::vector<double> PieceDiagonals(const TriData& m) {
     }
   return diag;
 }
-}  // namespace
 
 SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
   // follow each boundary half-edge (a, b) to the one leaving b (at a non-manifold boundary vertex

@@ -50,6 +50,10 @@ inline constexpr int kManySmallHoles = 10;
 /// piece's outline, not a hole (FindSmallHoles).
 inline constexpr double kOutlineShare = 0.5;
 
+/// Bounding-box diagonal of each vertex's piece (faces joined at shared vertices), by vertex (0
+/// for a vertex in no face).
+std::vector<double> PieceDiagonals(const TriData& m);
+
 /// Holes of an oriented manifold triangle mesh (its boundary loops but the outlines of their
 /// pieces, kOutlineShare) and those whose bounding-box diagonal is below `maxDiag`.
 struct SmallHoles {

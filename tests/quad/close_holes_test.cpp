@@ -1,0 +1,130 @@
+/// Tests of vcg_ext/quad/close_holes.h: which holes are closed, and that closing them adds faces
+/// only (the vertices and the input's faces kept, so per-vertex data still hold), leaves a closed,
+/// manifold, consistently oriented surface and about the area the holes lacked.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <utility>
+
+#include "test_support.h"
+#include "vcg_ext/quad/close_holes.h"
+#include "vcg_ext/quad/quad_simplify.h"
+
+namespace {
+// Every directed edge at most once (consistent orientation) and every edge in two faces at most.
+void ExpectOrientedManifold(const vcgext::TriData& m) {
+  std::set<std::pair<int, int>> directed;
+  for (const auto& f : m.F)
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(directed.insert({f[c], f[(c + 1) % 3]}).second) << "edge used twice";
+  int nme = 0, nmv = 0;
+  vcgext::CountNonManifold(m, &nme, &nmv);
+  EXPECT_EQ(nme, 0);
+  EXPECT_EQ(nmv, 0);
+}
+
+// A 20 x 20 grid of the unit square with the cells of `holes` removed (i, j: the cell's corner).
+vcgext::TriData GridWithHoles(const std::set<std::pair<int, int>>& holes) {
+  vcgext::TriData g = testsupport::PlaneGrid(20, 20);
+  vcgext::TriData out;
+  out.V = g.V;
+  for (size_t f = 0; f < g.F.size(); ++f) {
+    const int cell = int(f / 2), i = cell % 20, j = cell / 20;  // PlaneGrid: two triangles per cell, rows of x
+    if (!holes.count({i, j})) out.F.push_back(g.F[f]);
+  }
+  return out;
+}
+}  // namespace
+
+// 30 one-ring holes of an icosphere (about 0.15 across, 4 % of the diagonal: above the 2 %, but of
+// 5 or 6 edges): every one closed, the sphere closed again, no vertex added or moved, the input's
+// faces first and unchanged, and the closing triangles' area about the removed one-rings' (the
+// fans without their centre vertex, lower by its height over the rim's plane: within 5 %).
+TEST(CloseHoles, SphereHolesClosedWithFacesOnly) {
+  const vcgext::TriData full = testsupport::Icosphere(4), holed = testsupport::SphereWithHoles(30);
+  const vcgext::CloseHolesResult r = vcgext::CloseSmallHoles(holed);
+  EXPECT_TRUE(r.refused.empty()) << r.refused;
+  EXPECT_EQ(r.holes, 30);
+  EXPECT_EQ(r.closed, 30);
+  EXPECT_EQ(r.skipped, 0);
+  EXPECT_EQ(r.mesh.V, holed.V);
+  ASSERT_GT(r.mesh.F.size(), holed.F.size());
+  EXPECT_TRUE(std::equal(holed.F.begin(), holed.F.end(), r.mesh.F.begin()));
+  EXPECT_TRUE(vcgext::BoundaryHalfEdges(r.mesh).empty());
+  ExpectOrientedManifold(r.mesh);
+  const double removed = vcgext::TotalArea(full) - vcgext::TotalArea(holed);
+  const double added = vcgext::TotalArea(r.mesh) - vcgext::TotalArea(holed);
+  EXPECT_NEAR(added, removed, 0.05 * removed);
+  EXPECT_NEAR(r.closedAreaPct, 100 * added / vcgext::TotalArea(holed), 1e-9);
+}
+
+// On a grid: the outline is never a hole; a one-cell hole (4 edges) is closed by default, a 6 x 6
+// cell one (30 % of the diagonal, 24 edges) only under a larger share; 0 closes nothing.
+TEST(CloseHoles, SizeRuleAndOutline) {
+  const vcgext::TriData plain = testsupport::PlaneGrid(20, 20);
+  vcgext::CloseHolesParams all;
+  all.maxDiagonalPercent = 100;
+  const vcgext::CloseHolesResult none = vcgext::CloseSmallHoles(plain, all);
+  EXPECT_EQ(none.holes, 0);
+  EXPECT_EQ(none.closed, 0);
+  EXPECT_EQ(none.mesh.F, plain.F);
+
+  std::set<std::pair<int, int>> cells = {{2, 2}};
+  for (int i = 8; i < 14; ++i)
+    for (int j = 8; j < 14; ++j) cells.insert({i, j});
+  const vcgext::TriData holed = GridWithHoles(cells);
+  ASSERT_EQ(holed.F.size(), plain.F.size() - 2 * cells.size());
+  const vcgext::CloseHolesResult small = vcgext::CloseSmallHoles(holed);
+  EXPECT_EQ(small.holes, 2);
+  EXPECT_EQ(small.closed, 1);
+  EXPECT_EQ(small.mesh.F.size(), holed.F.size() + 2);  // a 4-edge loop: two triangles
+  EXPECT_EQ(vcgext::BoundaryHalfEdges(small.mesh).size(), 80u + 24u);  // the outline and the large hole
+  ExpectOrientedManifold(small.mesh);
+
+  vcgext::CloseHolesParams wide;
+  wide.maxDiagonalPercent = 40;
+  const vcgext::CloseHolesResult both = vcgext::CloseSmallHoles(holed, wide);
+  EXPECT_EQ(both.closed, 2);
+  EXPECT_EQ(vcgext::BoundaryHalfEdges(both.mesh).size(), 80u);
+  EXPECT_NEAR(vcgext::TotalArea(both.mesh), 1.0, 1e-9);  // flat: the grid's own area
+  ExpectOrientedManifold(both.mesh);
+
+  vcgext::CloseHolesParams off;
+  off.maxDiagonalPercent = 0;
+  const vcgext::CloseHolesResult kept = vcgext::CloseSmallHoles(holed, off);
+  EXPECT_EQ(kept.closed, 0);
+  EXPECT_EQ(kept.mesh.F, holed.F);
+}
+
+// Two one-cell holes touching at a corner: the working copy splits that vertex into two copies (a
+// manifold mesh), which makes the two holes one loop through both copies. They are joined again
+// and the loop closed: one vertex fewer, the grid closed but for its outline, manifold, and the
+// layer's vertex maps follow (every layer vertex still maps to a vertex at its position).
+TEST(CloseHoles, HolesTouchingAtAVertexAreClosedWithTheVertexJoined) {
+  vcgext::TMesh layer;
+  testsupport::ToVcg(GridWithHoles({{5, 5}, {6, 6}}), layer);
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(layer);
+  ASSERT_TRUE(w.error.empty()) << w.error;
+  ASSERT_EQ(w.splitVertices, 1);
+  const size_t before = w.mesh.V.size();
+  vcgext::CloseHolesParams p;
+  p.maxDiagonalPercent = 20;  // the two cells' box: 10 % of the grid's diagonal, 8 edges
+  const vcgext::CloseHolesResult r = vcgext::CloseSmallHoles(w, p);
+  EXPECT_TRUE(r.refused.empty()) << r.refused;
+  EXPECT_GE(r.closed, 1);
+  EXPECT_EQ(r.skipped, 0);
+  EXPECT_EQ(r.joinedVertices, 1);
+  EXPECT_EQ(w.mesh.V.size(), before - 1);
+  EXPECT_EQ(vcgext::BoundaryHalfEdges(w.mesh).size(), 80u);
+  ExpectOrientedManifold(w.mesh);
+  EXPECT_NEAR(vcgext::TotalArea(w.mesh), 1.0, 1e-9);
+  ASSERT_EQ(w.meshToLive.size(), w.mesh.V.size());
+  for (size_t v = 0; v < w.mesh.V.size(); ++v) {
+    const auto& p = layer.vert[size_t(w.meshToLive[v])].cP();
+    EXPECT_NEAR((w.mesh.V[v] - vcgext::Vec3(p[0], p[1], p[2])).norm(), 0, 1e-6);
+  }
+  for (size_t i = 0; i < w.liveToMesh.size(); ++i) {
+    ASSERT_GE(w.liveToMesh[i], 0);
+    const auto& p = layer.vert[i].cP();
+    EXPECT_NEAR((w.mesh.V[size_t(w.liveToMesh[i])] - vcgext::Vec3(p[0], p[1], p[2])).norm(), 0, 1e-6);
+  }
+}
