@@ -1,5 +1,7 @@
 /// \file close_holes.cpp
-/// Small holes closed by vcglib's ear cutting (close_holes.h).
+/// Small holes closed by vcglib's ear cutting (close_holes.h). The loops are found and chosen on
+/// the arrays; vcglib sees only the faces around the chosen loops (a closed or lightly holed dense
+/// scan costs one pass over its faces).
 #include "vcg_ext/quad/close_holes.h"
 
 #include <vcg/complex/algorithms/hole.h>
@@ -9,6 +11,8 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "vcg_ext/quad/quad_simplify.h"
@@ -29,29 +33,31 @@ class HMesh : public vcg::tri::TriMesh<std::vector<HVertex>, std::vector<HFace>>
 };
 using Hole = vcg::tri::Hole<HMesh>;
 
-void ToVcg(const TriData& m, HMesh& h) {
-  auto vi = vcg::tri::Allocator<HMesh>::AddVertices(h, m.V.size());
-  for (const Vec3& p : m.V) (vi++)->P() = vcg::Point3d(p.x(), p.y(), p.z());
-  auto fi = vcg::tri::Allocator<HMesh>::AddFaces(h, m.F.size());
-  for (const Tri& f : m.F) {
-    for (int c = 0; c < 3; ++c) fi->V(c) = &h.vert[size_t(f[c])];
-    ++fi;
-  }
-  vcg::tri::UpdateTopology<HMesh>::FaceFace(h);
-  vcg::tri::UpdateNormal<HMesh>::PerVertexNormalizedPerFaceNormalized(h);
-}
-
 double Area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
 
-// The vertices of the boundary loop from `p`, in order.
-std::vector<int> LoopVertices(const HMesh& h, const Hole::PosType& p) {
-  std::vector<int> loop;
-  Hole::PosType q = p;
-  do {
-    loop.push_back(int(q.v - &h.vert[0]));
-    q.NextB();
-  } while (q != p && loop.size() <= h.vert.size());
-  return loop;
+// The boundary loops of `m` as vertex cycles (loop[i] -> loop[i + 1] a boundary half-edge). A loop
+// through a vertex with more than one boundary edge leaving it (not manifold there) is left out.
+std::vector<std::vector<int>> BoundaryLoops(const TriData& m) {
+  const std::vector<std::pair<int, int>> half = BoundaryHalfEdges(m);
+  std::vector<int> next(m.V.size(), -1), out(m.V.size(), 0);
+  for (const auto& [a, b] : half) {
+    next[size_t(a)] = b;
+    ++out[size_t(a)];
+  }
+  std::vector<char> used(m.V.size(), 0);
+  std::vector<std::vector<int>> loops;
+  for (const auto& [a, b] : half) {
+    if (used[size_t(a)]) continue;
+    std::vector<int> loop;
+    bool manifold = true;
+    for (int v = a; v >= 0 && !used[size_t(v)]; v = next[size_t(v)]) {
+      used[size_t(v)] = 1;
+      manifold = manifold && out[size_t(v)] == 1;
+      loop.push_back(v);
+    }
+    if (manifold && loop.size() >= 3 && next[size_t(loop.back())] == loop.front()) loops.push_back(std::move(loop));
+  }
+  return loops;
 }
 
 // Per vertex of `loop` at a position an earlier one of the loop has (the working copy's copies of
@@ -71,69 +77,139 @@ bool CopiesOnLoop(const std::vector<Vec3>& V, const std::vector<int>& loop, std:
   return any;
 }
 
-// The holes of `h` to close (indices into `holes`): not a piece's outline (kOutlineShare), and
-// below the size rule; r.holes counts the holes.
-std::vector<size_t> SmallLoops(const HMesh& h, const std::vector<Hole::Info>& holes, const std::vector<double>& pieceDiag,
-                               double maxDiag, int maxEdges, CloseHolesResult& r) {
-  std::vector<size_t> chosen;
-  r.holes = 0;
-  for (size_t k = 0; k < holes.size(); ++k) {
-    const Hole::Info& i = holes[k];
-    const double d = vcg::Distance(i.bb.min, i.bb.max);
-    if (d >= kOutlineShare * pieceDiag[size_t(i.p.v - &h.vert[0])]) continue;  // the piece's outline
-    ++r.holes;
-    if (d < maxDiag || i.size <= maxEdges) chosen.push_back(k);
+// The loops to close: not a piece's outline (kOutlineShare), and below the size rule; `holes`
+// counts the holes.
+std::vector<std::vector<int>> SmallLoops(const TriData& m, const CloseHolesParams& p, int& holes) {
+  holes = 0;
+  std::vector<std::vector<int>> loops = BoundaryLoops(m), chosen;
+  if (loops.empty()) return chosen;
+  const std::vector<double> pieceDiag = PieceDiagonals(m);
+  const double maxDiag = p.maxDiagonalPercent / 100.0 * BBoxDiagonal(m.V);
+  for (std::vector<int>& loop : loops) {
+    Vec3 lo = m.V[size_t(loop[0])], hi = lo;
+    for (int v : loop) {
+      lo = lo.cwiseMin(m.V[size_t(v)]);
+      hi = hi.cwiseMax(m.V[size_t(v)]);
+    }
+    const double d = (hi - lo).norm();
+    if (d >= kOutlineShare * pieceDiag[size_t(loop[0])]) continue;  // the piece's outline
+    ++holes;
+    if (d < maxDiag || int(loop.size()) <= p.maxEdges) chosen.push_back(std::move(loop));
   }
   return chosen;
 }
 
+// The faces of `m` with a corner on one of `loops`, as a vcg mesh of the vertices they use
+// (`local`: per vertex of m its index in h, or -1), with face-face adjacency and vertex normals:
+// every loop vertex's whole star, all ear cutting looks at.
+void AroundLoops(const TriData& m, const std::vector<std::vector<int>>& loops, HMesh& h, std::vector<int>& local,
+                 std::vector<int>& global) {
+  std::vector<char> onLoop(m.V.size(), 0);
+  for (const auto& loop : loops)
+    for (int v : loop) onLoop[size_t(v)] = 1;
+  std::vector<size_t> faces;
+  for (size_t f = 0; f < m.F.size(); ++f)
+    if (onLoop[size_t(m.F[f][0])] || onLoop[size_t(m.F[f][1])] || onLoop[size_t(m.F[f][2])]) faces.push_back(f);
+  local.assign(m.V.size(), -1);
+  global.clear();
+  for (size_t f : faces)
+    for (int v : m.F[f])
+      if (local[size_t(v)] < 0) {
+        local[size_t(v)] = int(global.size());
+        global.push_back(v);
+      }
+  auto vi = vcg::tri::Allocator<HMesh>::AddVertices(h, global.size());
+  for (int v : global) (vi++)->P() = vcg::Point3d(m.V[size_t(v)].x(), m.V[size_t(v)].y(), m.V[size_t(v)].z());
+  auto fi = vcg::tri::Allocator<HMesh>::AddFaces(h, faces.size());
+  for (size_t f : faces) {
+    for (int c = 0; c < 3; ++c) fi->V(c) = &h.vert[size_t(local[size_t(m.F[f][c])])];
+    ++fi;
+  }
+  vcg::tri::UpdateTopology<HMesh>::FaceFace(h);
+  vcg::tri::UpdateNormal<HMesh>::PerVertexNormalizedPerFaceNormalized(h);
+}
+
+// The border positions of `h` by their half-edge (local indices a -> b).
+std::map<std::pair<int, int>, Hole::PosType> Borders(HMesh& h) {
+  std::map<std::pair<int, int>, Hole::PosType> at;
+  for (auto& f : h.face)
+    for (int j = 0; j < 3; ++j)
+      if (vcg::face::IsBorder(f, j))
+        at[{int(f.V(j) - &h.vert[0]), int(f.V((j + 1) % 3) - &h.vert[0])}] = Hole::PosType(&f, j, f.V(j));
+  return at;
+}
+
+// Joins the copies of a point on each of `loops` (CopiesOnLoop) in m's faces and in the loops;
+// per vertex the vertex it was joined into (-1: none).
+std::vector<int> JoinCopies(TriData& m, std::vector<std::vector<int>>& loops) {
+  std::vector<int> into(m.V.size(), -1);
+  bool any = false;
+  for (const auto& loop : loops) any = CopiesOnLoop(m.V, loop, into) || any;
+  if (!any) return into;
+  auto to = [&](int v) { return into[size_t(v)] >= 0 ? into[size_t(v)] : v; };
+  for (Tri& f : m.F)
+    for (int& v : f) v = to(v);
+  for (auto& loop : loops)
+    for (int& v : loop) v = to(v);
+  return into;
+}
+
+// Drops the joined vertices (`into` >= 0) from m; r.vertexMap: old -> new index.
+void DropJoined(TriData& m, const std::vector<int>& into, CloseHolesResult& r) {
+  r.vertexMap.assign(m.V.size(), -1);
+  std::vector<Vec3> V;
+  for (size_t v = 0; v < m.V.size(); ++v)
+    if (into[v] < 0) {
+      r.vertexMap[v] = int(V.size());
+      V.push_back(m.V[v]);
+    }
+  for (size_t v = 0; v < m.V.size(); ++v)
+    if (into[v] >= 0) r.vertexMap[v] = r.vertexMap[size_t(into[v])];
+  for (Tri& f : m.F)
+    for (int& v : f) v = r.vertexMap[size_t(v)];
+  m.V = std::move(V);
+}
 }  // namespace
 
 CloseHolesResult CloseSmallHoles(const TriData& input, const CloseHolesParams& p) {
   CloseHolesResult r;
   r.mesh = input;
   if (!(p.maxDiagonalPercent > 0) || input.F.empty()) return r;
-  const std::vector<double> pieceDiag = PieceDiagonals(input);
-  const double maxDiag = p.maxDiagonalPercent / 100.0 * BBoxDiagonal(input.V);
+  std::vector<std::vector<int>> loops = SmallLoops(input, p, r.holes);
+  if (loops.empty()) return r;
   // a small hole through two copies of one point: the copies are joined again first (vcglib's
   // ear cutting closes a loop through a vertex twice; closed, that vertex is manifold again)
   TriData m = input;
-  std::vector<int> into(m.V.size(), -1);
-  {
-    HMesh h;
-    ToVcg(m, h);
-    std::vector<Hole::Info> holes;
-    Hole::GetInfo(h, false, holes);
-    bool any = false;
-    for (size_t k : SmallLoops(h, holes, pieceDiag, maxDiag, p.maxEdges, r))
-      any = CopiesOnLoop(m.V, LoopVertices(h, holes[k].p), into) || any;
-    if (any)
-      for (Tri& f : m.F)
-        for (int& v : f) v = into[size_t(v)] >= 0 ? into[size_t(v)] : v;
-  }
+  const std::vector<int> into = JoinCopies(m, loops);
   HMesh h;
-  ToVcg(m, h);
-  std::vector<Hole::Info> holes;
-  Hole::GetInfo(h, false, holes);
+  std::vector<int> local, global;
+  AroundLoops(m, loops, h, local, global);
+  const std::map<std::pair<int, int>, Hole::PosType> borders = Borders(h);
+  std::vector<Hole::PosType> at;
+  for (const auto& loop : loops) {
+    // start on a half-edge whose tail the loop passes once (not a joined vertex)
+    size_t k = 0;
+    while (k + 1 < loop.size() && std::count(loop.begin(), loop.end(), loop[k]) > 1) ++k;
+    const auto b = borders.find({local[size_t(loop[k])], local[size_t(loop[(k + 1) % loop.size()])]});
+    at.push_back(b != borders.end() ? b->second : Hole::PosType());
+  }
   std::vector<HMesh::FacePointer*> update;  // FillHoleEar's added faces may move the vector
-  for (Hole::Info& i : holes) update.push_back(&i.p.f);
+  for (auto& pos : at) update.push_back(&pos.f);
   // each hole's closing triangles (a range at the end of h.face), kept unless one is degenerate
-  // or the loop still passes two copies of a point
   double added = 0;
-  for (size_t k : SmallLoops(h, holes, pieceDiag, maxDiag, p.maxEdges, r)) {
-    std::vector<int> copies(m.V.size(), -1);
-    if (CopiesOnLoop(m.V, LoopVertices(h, holes[k].p), copies)) {
+  for (size_t k = 0; k < loops.size(); ++k) {
+    if (at[k].IsNull()) {
       ++r.skipped;
       continue;
     }
     const size_t before = h.face.size();
-    Hole::FillHoleEar<vcg::tri::MinimumWeightEar<HMesh>>(h, holes[k].p, update);
+    Hole::FillHoleEar<vcg::tri::MinimumWeightEar<HMesh>>(h, at[k], update);
     std::vector<Tri> closing;
     double area = 0;
     for (size_t f = before; f < h.face.size(); ++f) {
       if (h.face[f].IsD()) continue;
       Tri t;
-      for (int c = 0; c < 3; ++c) t[c] = int(h.face[f].V(c) - &h.vert[0]);
+      for (int c = 0; c < 3; ++c) t[c] = global[size_t(h.face[f].V(c) - &h.vert[0])];
       const double a = Area(m.V[size_t(t[0])], m.V[size_t(t[1])], m.V[size_t(t[2])]);
       area = a > 0 && area >= 0 ? area + a : -1;
       closing.push_back(t);
@@ -150,7 +226,7 @@ CloseHolesResult CloseSmallHoles(const TriData& input, const CloseHolesParams& p
   CountNonManifold(input, &nme0, &nmv0);
   CountNonManifold(m, &nme1, &nmv1);
   if (nme1 > nme0 || nmv1 > nmv0) {
-    r.closed = r.joinedVertices = 0;
+    r.closed = 0;
     r.refused = "closing them would make " + std::to_string(nme1 - nme0) + " edges and " +
                 std::to_string(nmv1 - nmv0) + " vertices non-manifold";
     return r;
@@ -158,20 +234,7 @@ CloseHolesResult CloseSmallHoles(const TriData& input, const CloseHolesParams& p
   r.closedAreaPct = 100.0 * added / std::max(TotalArea(input), 1e-300);
   // the joined copies leave the vertex array (vertexMap: old -> new index)
   for (int t : into) r.joinedVertices += t >= 0;
-  if (r.joinedVertices > 0) {
-    r.vertexMap.assign(m.V.size(), -1);
-    std::vector<Vec3> V;
-    for (size_t v = 0; v < m.V.size(); ++v)
-      if (into[v] < 0) {
-        r.vertexMap[v] = int(V.size());
-        V.push_back(m.V[v]);
-      }
-    for (size_t v = 0; v < m.V.size(); ++v)
-      if (into[v] >= 0) r.vertexMap[v] = r.vertexMap[size_t(into[v])];
-    for (Tri& f : m.F)
-      for (int& v : f) v = r.vertexMap[size_t(v)];
-    m.V = std::move(V);
-  }
+  if (r.joinedVertices > 0) DropJoined(m, into, r);
   r.mesh = std::move(m);
   return r;
 }

@@ -30,8 +30,8 @@ struct CloseHolesResult {
   TriData mesh;
   int holes = 0;           ///< holes found (outlines excluded)
   int closed = 0;          ///< of which closed
-  /// small ones left open: a loop through two copies of a point that could not be joined, or
-  /// whose closing would have had a triangle of no area
+  /// small ones left open: their closing would have had a triangle of no area (or vcglib's copy
+  /// had no border on the loop)
   int skipped = 0;
   /// Copies of one point on a small hole's loop (the working copy splits a vertex where two holes
   /// touch, to keep the mesh manifold) joined again before closing it: per input vertex its index
@@ -47,7 +47,9 @@ struct CloseHolesResult {
 /// (`tri::Hole::FillHoleEar` with `MinimumWeightEar`, MeshLab's *Close Holes*); no vertex is
 /// added or moved, so per-vertex data of `m` (the Fitmaps) hold on the result through
 /// vertexMap. The input's faces come first, in order. Nothing is closed when the result would
-/// have more non-manifold edges or vertices than `m` (`refused`). O(F log F).
+/// have more non-manifold edges or vertices than `m` (`refused`). Loops are found on the arrays
+/// and vcglib is given only the faces round the chosen ones: 0.05 s on a closed 300k-triangle
+/// mesh, 0.9 s on one with 5 577 holes.
 CloseHolesResult CloseSmallHoles(const TriData& m, const CloseHolesParams& p = {});
 
 /// CloseSmallHoles on a working copy: its mesh and its vertex maps (liveToMesh, meshToLive) follow.
