@@ -146,9 +146,9 @@ def test_holed_scan_cage_is_judged_on_its_fitted_limit(tmp_path):
 
 
 def test_small_holes_are_closed_for_the_layout_and_the_fit_refers_to_the_layer(tmp_path):
-    # by default the holes below 2 % of the diagonal (or of at most 6 edges) are closed in the
-    # simplification's working copy (docs/robustness.md "Many small holes"): every hole of the
-    # holed elephant, a cage within 15 % of the clean elephant's (the spread another face order
+    # by default the holes below 2 % of the diagonal (or of at most 6 edges below 10 %) are closed
+    # in the simplification's working copy (docs/robustness.md "Many small holes"): every hole of
+    # the holed elephant, a cage within 15 % of the clean elephant's (the spread another face order
     # gives), while the fit's report still refers to the holed layer (its faces; unprojectable
     # within issue 13's 0.1 %)
     clean = pymeshlab.MeshSet()

@@ -57,8 +57,9 @@ TEST(CloseHoles, SphereHolesClosedWithFacesOnly) {
   EXPECT_NEAR(r.closedAreaPct, 100 * added / vcgext::TotalArea(holed), 1e-9);
 }
 
-// On a grid: the outline is never a hole; a one-cell hole (4 edges) is closed by default, a 6 x 6
-// cell one (30 % of the diagonal, 24 edges) only under a larger share; 0 closes nothing.
+// On a grid: the outline is never a hole; a one-cell hole (4 edges, 5 % of the diagonal) is closed
+// by default, a 6 x 6 cell one (30 % of the diagonal, 24 edges) only under a larger share, a hole
+// of few edges above 10 % of the diagonal not at all; 0 closes nothing.
 TEST(CloseHoles, SizeRuleAndOutline) {
   const vcgext::TriData plain = testsupport::PlaneGrid(20, 20);
   vcgext::CloseHolesParams all;
@@ -87,6 +88,17 @@ TEST(CloseHoles, SizeRuleAndOutline) {
   EXPECT_EQ(vcgext::BoundaryHalfEdges(both.mesh).size(), 80u);
   EXPECT_NEAR(vcgext::TotalArea(both.mesh), 1.0, 1e-9);  // flat: the grid's own area
   ExpectOrientedManifold(both.mesh);
+
+  // few edges but large: the data set's triangular_hole.off (a 3-edge hole across 45 % of its
+  // diagonal) keeps its hole, as does a one-cell hole of a 4 x 4 grid (25 %)
+  const vcgext::CloseHolesResult feature = vcgext::CloseSmallHoles(testsupport::LoadSample("triangular_hole.off"));
+  EXPECT_EQ(feature.holes, 1);
+  EXPECT_EQ(feature.closed, 0);
+  vcgext::TriData coarse = testsupport::PlaneGrid(4, 4);
+  coarse.F.erase(coarse.F.begin() + 10, coarse.F.begin() + 12);  // cell (1, 1)
+  const vcgext::CloseHolesResult cell = vcgext::CloseSmallHoles(coarse);
+  EXPECT_EQ(cell.holes, 1);
+  EXPECT_EQ(cell.closed, 0);
 
   vcgext::CloseHolesParams off;
   off.maxDiagonalPercent = 0;

@@ -84,7 +84,7 @@ std::vector<std::vector<int>> SmallLoops(const TriData& m, const CloseHolesParam
   std::vector<std::vector<int>> loops = BoundaryLoops(m), chosen;
   if (loops.empty()) return chosen;
   const std::vector<double> pieceDiag = PieceDiagonals(m);
-  const double maxDiag = p.maxDiagonalPercent / 100.0 * BBoxDiagonal(m.V);
+  const double diag = BBoxDiagonal(m.V), maxDiag = p.maxDiagonalPercent / 100.0 * diag;
   for (std::vector<int>& loop : loops) {
     Vec3 lo = m.V[size_t(loop[0])], hi = lo;
     for (int v : loop) {
@@ -94,7 +94,8 @@ std::vector<std::vector<int>> SmallLoops(const TriData& m, const CloseHolesParam
     const double d = (hi - lo).norm();
     if (d >= kOutlineShare * pieceDiag[size_t(loop[0])]) continue;  // the piece's outline
     ++holes;
-    if (d < maxDiag || int(loop.size()) <= p.maxEdges) chosen.push_back(std::move(loop));
+    if (d < maxDiag || (int(loop.size()) <= p.maxEdges && d < p.maxEdgesDiagonalPercent / 100.0 * diag))
+      chosen.push_back(std::move(loop));
   }
   return chosen;
 }
