@@ -140,3 +140,35 @@ TEST(CloseHoles, HolesTouchingAtAVertexAreClosedWithTheVertexJoined) {
     EXPECT_NEAR((w.mesh.V[size_t(w.liveToMesh[i])] - vcgext::Vec3(p[0], p[1], p[2])).norm(), 0, 1e-6);
   }
 }
+
+// A hole round an island (a piece cut out by cracks: the removed cells as a separate piece with
+// vertices of their own, 1e-6 above): closing it would double the island's sheet, so it stays
+// open and is counted; the same hole without the island is closed.
+TEST(CloseHoles, HoleRoundAnIslandStaysOpen) {
+  const std::set<std::pair<int, int>> cells = {{5, 5}, {5, 6}, {6, 5}, {6, 6}};  // 10 % of the diagonal
+  vcgext::TriData holed = GridWithHoles(cells);
+  vcgext::CloseHolesParams p;
+  p.maxDiagonalPercent = 15;
+  const vcgext::CloseHolesResult open = vcgext::CloseSmallHoles(holed, p);
+  EXPECT_EQ(open.holes, 1);
+  EXPECT_EQ(open.closed, 1);
+  EXPECT_EQ(open.islands, 0);
+
+  const vcgext::TriData grid = testsupport::PlaneGrid(20, 20);
+  vcgext::TriData withIsland = holed;
+  for (size_t f = 0; f < grid.F.size(); ++f) {
+    const int cell = int(f / 2);
+    if (!cells.count({cell % 20, cell / 20})) continue;
+    vcgext::Tri t;
+    for (int c = 0; c < 3; ++c) {
+      t[c] = int(withIsland.V.size());
+      withIsland.V.push_back(grid.V[size_t(grid.F[f][c])] + vcgext::Vec3(0, 0, 1e-6));
+    }
+    withIsland.F.push_back(t);
+  }
+  const vcgext::CloseHolesResult island = vcgext::CloseSmallHoles(withIsland, p);
+  EXPECT_EQ(island.holes, 1);  // the island's own loop is its outline
+  EXPECT_EQ(island.closed, 0);
+  EXPECT_EQ(island.islands, 1);
+  EXPECT_EQ(island.mesh.F, withIsland.F);
+}

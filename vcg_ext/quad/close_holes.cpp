@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "vcg_ext/core/embree_scene.h"
 #include "vcg_ext/quad/quad_simplify.h"
 #include "vcg_ext/quad/scan_artifacts.h"
 
@@ -98,6 +99,30 @@ std::vector<std::vector<int>> SmallLoops(const TriData& m, const CloseHolesParam
       chosen.push_back(std::move(loop));
   }
   return chosen;
+}
+
+// Whether most of a hole's closing triangles (by area) lie on the input: their centroid within a
+// twentieth of the loop's radius of one of its faces. A loop round an island does (a piece cut
+// out by cracks, the other sheet of a doubled wall), and a slit's closing over the flap beside it:
+// closing them would double a sheet. A hole's own closing keeps its centroids a fifth of the
+// radius or more from its rim (an ear's centroid is a third of its height off its edge).
+bool DoublesASheet(const EmbreeScene& scene, const TriData& m, const std::vector<Tri>& closing,
+                   const std::vector<int>& loop) {
+  Vec3 c = Vec3::Zero();
+  for (int v : loop) c += m.V[size_t(v)];
+  c /= double(loop.size());
+  double radius = 0;
+  for (int v : loop) radius += (m.V[size_t(v)] - c).norm() / double(loop.size());
+  double doubled = 0, total = 0;
+  for (const Tri& t : closing) {
+    const Vec3 &a = m.V[size_t(t[0])], &b = m.V[size_t(t[1])], &d = m.V[size_t(t[2])];
+    const double area = Area(a, b, d);
+    total += area;
+    const Vec3 x = (a + b + d) / 3;
+    const EmbreeScene::Hit h = scene.ClosestPoint(x, 0.05 * radius);  // (the radius prunes; it may return farther)
+    if (h.valid && (h.point - x).norm() <= 0.05 * radius) doubled += area;
+  }
+  return doubled > 0.5 * total;
 }
 
 // The faces of `m` with a corner on one of `loops`, as a vcg mesh of the vertices they use
@@ -194,6 +219,7 @@ CloseHolesResult CloseSmallHoles(const TriData& input, const CloseHolesParams& p
     const auto b = borders.find({local[size_t(loop[k])], local[size_t(loop[(k + 1) % loop.size()])]});
     at.push_back(b != borders.end() ? b->second : Hole::PosType());
   }
+  const EmbreeScene scene(input);
   std::vector<HMesh::FacePointer*> update;  // FillHoleEar's added faces may move the vector
   for (auto& pos : at) update.push_back(&pos.f);
   // each hole's closing triangles (a range at the end of h.face), kept unless one is degenerate
@@ -217,6 +243,10 @@ CloseHolesResult CloseSmallHoles(const TriData& input, const CloseHolesParams& p
     }
     if (area < 0 || closing.empty()) {
       ++r.skipped;
+      continue;
+    }
+    if (scene.Ok() && DoublesASheet(scene, m, closing, loops[k])) {
+      ++r.islands;
       continue;
     }
     m.F.insert(m.F.end(), closing.begin(), closing.end());

@@ -33,6 +33,9 @@ struct CloseHolesResult {
   TriData mesh;
   int holes = 0;           ///< holes found (outlines excluded)
   int closed = 0;          ///< of which closed
+  /// small ones left open round an island: another sheet of the input lies across the loop (a
+  /// piece cut out by cracks, the other sheet of a doubled wall), which closing would double
+  int islands = 0;
   /// small ones left open: their closing would have had a triangle of no area (or vcglib's copy
   /// had no border on the loop)
   int skipped = 0;
