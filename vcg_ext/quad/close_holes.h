@@ -33,8 +33,9 @@ struct CloseHolesResult {
   TriData mesh;
   int holes = 0;           ///< holes found (outlines excluded)
   int closed = 0;          ///< of which closed
-  /// small ones left open round an island: another sheet of the input lies across the loop (a
-  /// piece cut out by cracks, the other sheet of a doubled wall), which closing would double
+  /// small ones left open because most of their closing (by area) lies on the input, within a
+  /// twentieth of the loop's radius: round an island (a piece cut out by cracks, the other sheet
+  /// of a doubled wall) or a slit folded over its flap; closing them would double a sheet
   int islands = 0;
   /// small ones left open: their closing would have had a triangle of no area (or vcglib's copy
   /// had no border on the loop)
