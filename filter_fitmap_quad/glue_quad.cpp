@@ -91,11 +91,12 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
   par.addParam(RichFloat(param::kCloseHoles, float(vcgext::CloseHolesParams().maxDiagonalPercent),
                          "Close small holes for the layout (% of diagonal, 0 = none)",
                          "Beyond the paper: the layer's holes smaller than this share of its bounding-box "
-                         "diagonal (and those of at most 6 edges below 10 %) are closed in the simplification's working "
-                         "copy (vcglib's ear cutting, as Close Holes), so the cage is laid out across them as "
-                         "across the surface around instead of keeping a ring of patches round each; the fit, "
-                         "the displacement and every reported error still refer to the layer as it is. "
-                         "0 = every hole stays a hole of the cage (docs/robustness.md, Many small holes)."));
+                         "diagonal (and those of at most 6 edges below 10 %) are closed in the "
+                         "simplification's working copy (vcglib's ear cutting, as Close Holes), so the cage "
+                         "is laid out across them as across the surface around instead of keeping a ring of "
+                         "patches round each; the fit, the displacement and every reported error still refer "
+                         "to the layer as it is. 0 = every hole stays a hole of the cage (docs/robustness.md, "
+                         "Many small holes)."));
   par.addParam(RichBool(param::kValidate, d.validateEveryOperation, "Validate every operation (slow)",
                         "Test mode: full mesh validity check after every local operation."));
 }
@@ -117,8 +118,7 @@ vcgext::StartMeshParams BudgetStartParams(int workingFaces, int targetPatches, i
 }
 
 // The filter's parameters as QuadSimplifyParams (and tau, the working resolution, the holes to
-// close); false after
-// ctx.Fail on a value out of range.
+// close); false after ctx.Fail on a value out of range.
 bool QuadParams(GlueContext& ctx, vcgext::QuadSimplifyParams& p, double& tau, int& workingFaces, int& firstFaces,
                 double& closeHolesPct) {
   tau = ctx.par.getFloat(param::kTau);

@@ -168,6 +168,8 @@ def test_fitted_layer_saves_with_its_texture(bunny_pipeline, tmp_path):
      "the swap sweep tolerance must be at most 1000 percent"),
     (lambda ms: ms.generate_fitmap_quad_simplification(firstworkingfaces=-1),
      "the first start of a dense input must be >= 0 triangles"),
+    (lambda ms: ms.generate_fitmap_quad_simplification(closeholes=-1),
+     "close small holes must be in [0, 100] percent"),
     (lambda ms: ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0),
      "the reference layer must be another layer than the control mesh (the current layer)"),
     (lambda ms: ms.apply_loop_surrogate_snap_points(surfacemesh=0),

@@ -175,8 +175,9 @@ def test_relaid_cage_is_judged_on_its_fitted_limit(tmp_path):
     # returned share is the fit filter's report's own (docs/quad.md "A relayout judged on the fitted
     # limit"); fitted within it, the cage is kept
     rings, segs = 8, 24
-    V = [(0.0, 0.0, 0.0)] + [(k / rings * math.cos(2 * math.pi * i / segs), k / rings * math.sin(2 * math.pi * i / segs),
-                              0.0) for k in range(1, rings + 1) for i in range(segs)]
+    V = [(0.0, 0.0, 0.0)] + [(k / rings * math.cos(2 * math.pi * i / segs),
+                              k / rings * math.sin(2 * math.pi * i / segs), 0.0)
+                             for k in range(1, rings + 1) for i in range(segs)]
     idx = lambda k, i: 0 if k == 0 else 1 + (k - 1) * segs + i % segs  # noqa: E731
     F = [(0, idx(1, i + 1), idx(1, i)) for i in range(segs)]
     for k in range(1, rings):
