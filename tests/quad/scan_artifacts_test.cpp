@@ -88,6 +88,9 @@ TEST(ScanArtifacts, ManySmallHolesAreCountedAndWarnedAbout) {
   EXPECT_NE(w.find("10 of the input's 10 holes are smaller than the cage's patches"), std::string::npos) << w;
   EXPECT_NE(w.find("8 of whose 9 patches border one"), std::string::npos) << w;
   EXPECT_NE(w.find("Close Holes"), std::string::npos) << w;
+  // the parameter that closes them for the layout, at the patches' side (the holed sphere's area
+  // 12.4: sqrt(12.4 / 9) = 1.174 of its diagonal 2 sqrt(3): 33.9 %)
+  EXPECT_NE(w.find("(closeHoles) at 33.9 %"), std::string::npos) << w;
   // 3 600 patches of side 0.06: the holes are larger than the patches, no warning
   EXPECT_EQ(vcgext::HolesWarning(testsupport::SphereWithHoles(30), QuadGrid(60)), "");
   // outlines are not holes: a sheet's rim, and 12 small flaps beside a closed sphere (what the

@@ -120,14 +120,16 @@ std::string HolesWarning(const TriData& input, const QuadData& cage) {
   const double patchSide = std::sqrt(TotalArea(input) / double(cage.F.size()));
   const SmallHoles h = FindSmallHoles(input, patchSide);
   if (h.small < kManySmallHoles) return {};
-  char buf[600];
+  char buf[800];
   std::snprintf(buf, sizeof buf,
                 "%d of the input's %d holes are smaller than the cage's patches (%.3g %% of the diagonal, the side "
                 "of an average patch): each stays a hole of the cage, %ld of whose %zu patches border one, and the "
                 "limit opens wider than such a hole, so the area around it may be left unreached. If they are gaps "
-                "in a scan, close them first: Filters > Remeshing, Simplification and Reconstruction > Close Holes "
-                "(PyMeshLab: meshing_close_holes)",
-                h.small, h.holes, 100 * patchSide / BBoxDiagonal(input.V), bordering, cage.F.size());
+                "in a scan, let this filter close them for the layout only (the fit still sees them): Close small "
+                "holes for the layout (closeHoles) at %.3g %%; or close them in the layer first: Filters > "
+                "Remeshing, Simplification and Reconstruction > Close Holes (PyMeshLab: meshing_close_holes)",
+                h.small, h.holes, 100 * patchSide / BBoxDiagonal(input.V), bordering, cage.F.size(),
+                100 * patchSide / BBoxDiagonal(input.V));
   return buf;
 }
 
