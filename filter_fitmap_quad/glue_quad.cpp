@@ -194,8 +194,8 @@ void CloseHolesForLayout(GlueContext& ctx, vcgext::WorkingCopy& w, double maxDia
   if (c.closed == 0) return;
   std::ostringstream n;
   n << "Fitmap Quad Simplification: closed " << c.closed << " of the layer's " << c.holes << " holes for the layout ("
-    << c.closedAreaPct << " % of its area; those below " << maxDiagonalPercent
-    << " % of the diagonal, or of at most 6 edges below 10 %"
+    << c.closedAreaPct << " % of its area; those below " << maxDiagonalPercent << " % of the diagonal, or of at most "
+    << cp.maxEdges << " edges below " << cp.maxEdgesDiagonalPercent << " %"
     << (c.islands ? "; " + std::to_string(c.islands) + " round another sheet left open" : std::string())
     << (c.skipped ? "; " + std::to_string(c.skipped) + " left open" : std::string())
     << "): the cage spans them, the fit and its report refer to the layer as it is";

@@ -36,31 +36,6 @@ using Hole = vcg::tri::Hole<HMesh>;
 
 double Area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
 
-// The boundary loops of `m` as vertex cycles (loop[i] -> loop[i + 1] a boundary half-edge). A loop
-// through a vertex with more than one boundary edge leaving it (not manifold there) is left out.
-std::vector<std::vector<int>> BoundaryLoops(const TriData& m) {
-  const std::vector<std::pair<int, int>> half = BoundaryHalfEdges(m);
-  std::vector<int> next(m.V.size(), -1), out(m.V.size(), 0);
-  for (const auto& [a, b] : half) {
-    next[size_t(a)] = b;
-    ++out[size_t(a)];
-  }
-  std::vector<char> used(m.V.size(), 0);
-  std::vector<std::vector<int>> loops;
-  for (const auto& [a, b] : half) {
-    if (used[size_t(a)]) continue;
-    std::vector<int> loop;
-    bool manifold = true;
-    for (int v = a; v >= 0 && !used[size_t(v)]; v = next[size_t(v)]) {
-      used[size_t(v)] = 1;
-      manifold = manifold && out[size_t(v)] == 1;
-      loop.push_back(v);
-    }
-    if (manifold && loop.size() >= 3 && next[size_t(loop.back())] == loop.front()) loops.push_back(std::move(loop));
-  }
-  return loops;
-}
-
 // Per vertex of `loop` at a position an earlier one of the loop has (the working copy's copies of
 // a vertex where two holes touched, split apart to keep the mesh manifold): that earlier vertex,
 // recorded in `into` (-1: none); whether there was one.
@@ -78,25 +53,18 @@ bool CopiesOnLoop(const std::vector<Vec3>& V, const std::vector<int>& loop, std:
   return any;
 }
 
-// The loops to close: not a piece's outline (kOutlineShare), and below the size rule; `holes`
-// counts the holes.
+// The holes to close (FindHoleLoops: not a piece's outline; manifold, below the size rule);
+// `holes` counts the holes.
 std::vector<std::vector<int>> SmallLoops(const TriData& m, const CloseHolesParams& p, int& holes) {
-  holes = 0;
-  std::vector<std::vector<int>> loops = BoundaryLoops(m), chosen;
-  if (loops.empty()) return chosen;
-  const std::vector<double> pieceDiag = PieceDiagonals(m);
+  std::vector<HoleLoop> loops = FindHoleLoops(m);
+  holes = int(loops.size());
+  std::vector<std::vector<int>> chosen;
   const double diag = BBoxDiagonal(m.V), maxDiag = p.maxDiagonalPercent / 100.0 * diag;
-  for (std::vector<int>& loop : loops) {
-    Vec3 lo = m.V[size_t(loop[0])], hi = lo;
-    for (int v : loop) {
-      lo = lo.cwiseMin(m.V[size_t(v)]);
-      hi = hi.cwiseMax(m.V[size_t(v)]);
-    }
-    const double d = (hi - lo).norm();
-    if (d >= kOutlineShare * pieceDiag[size_t(loop[0])]) continue;  // the piece's outline
-    ++holes;
-    if (d < maxDiag || (int(loop.size()) <= p.maxEdges && d < p.maxEdgesDiagonalPercent / 100.0 * diag))
-      chosen.push_back(std::move(loop));
+  for (HoleLoop& loop : loops) {
+    const double d = loop.diagonal;
+    if (!loop.manifold || loop.vertices.size() < 3) continue;
+    if (d < maxDiag || (int(loop.vertices.size()) <= p.maxEdges && d < p.maxEdgesDiagonalPercent / 100.0 * diag))
+      chosen.push_back(std::move(loop.vertices));
   }
   return chosen;
 }

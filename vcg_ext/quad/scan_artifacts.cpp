@@ -80,30 +80,47 @@ std::vector<double> PieceDiagonals(const TriData& m) {
   return diag;
 }
 
-SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
+std::vector<HoleLoop> FindHoleLoops(const TriData& m) {
   // follow each boundary half-edge (a, b) to the one leaving b (at a non-manifold boundary vertex
-  // any of them: the loops' count and sizes are what matters here)
+  // any of them: such a loop is kept, not manifold)
   const std::vector<std::pair<int, int>> half = BoundaryHalfEdges(m);
   if (half.empty()) return {};
   const std::vector<double> pieceDiag = PieceDiagonals(m);
-  std::vector<int> next(m.V.size(), -1);
-  for (size_t i = 0; i < half.size(); ++i) next[size_t(half[i].first)] = int(i);
+  std::vector<int> next(m.V.size(), -1), out(m.V.size(), 0);
+  for (size_t i = 0; i < half.size(); ++i) {
+    next[size_t(half[i].first)] = int(i);
+    ++out[size_t(half[i].first)];
+  }
   std::vector<char> used(half.size(), 0);
-  SmallHoles h;
+  std::vector<HoleLoop> holes;
   for (size_t i = 0; i < half.size(); ++i) {
     if (used[i]) continue;
+    HoleLoop h;
     Vec3 lo = m.V[size_t(half[i].first)], hi = lo;
+    int last = -1;
     for (int k = int(i); k >= 0 && !used[size_t(k)]; k = next[size_t(half[size_t(k)].second)]) {
       used[size_t(k)] = 1;
-      lo = lo.cwiseMin(m.V[size_t(half[size_t(k)].second)]);
-      hi = hi.cwiseMax(m.V[size_t(half[size_t(k)].second)]);
+      h.vertices.push_back(half[size_t(k)].first);
+      h.manifold = h.manifold && out[size_t(half[size_t(k)].first)] == 1;
+      last = half[size_t(k)].second;
+      lo = lo.cwiseMin(m.V[size_t(last)]);
+      hi = hi.cwiseMax(m.V[size_t(last)]);
     }
+    h.manifold = h.manifold && last == half[i].first;
     // a loop spanning half its piece or more is the piece's outline (a sheet's rim, a flap that
     // the working copy separated from an edge of three triangles), not a hole in it
-    const double d = (hi - lo).norm();
-    if (d >= kOutlineShare * pieceDiag[size_t(half[i].first)]) continue;
+    h.diagonal = (hi - lo).norm();
+    if (h.diagonal >= kOutlineShare * pieceDiag[size_t(half[i].first)]) continue;
+    holes.push_back(std::move(h));
+  }
+  return holes;
+}
+
+SmallHoles FindSmallHoles(const TriData& m, double maxDiag) {
+  SmallHoles h;
+  for (const HoleLoop& loop : FindHoleLoops(m)) {
     ++h.holes;
-    h.small += d < maxDiag;
+    h.small += loop.diagonal < maxDiag;
   }
   return h;
 }

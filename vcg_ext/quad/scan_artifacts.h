@@ -54,6 +54,16 @@ inline constexpr double kOutlineShare = 0.5;
 /// for a vertex in no face).
 std::vector<double> PieceDiagonals(const TriData& m);
 
+/// A hole of an oriented triangle mesh: a boundary loop that is not its piece's outline
+/// (kOutlineShare), as the tails of its half-edges in order, with its bounding-box diagonal;
+/// `manifold`: one boundary edge leaves each of its vertices and the loop closes.
+struct HoleLoop {
+  std::vector<int> vertices;
+  double diagonal = 0;
+  bool manifold = true;
+};
+std::vector<HoleLoop> FindHoleLoops(const TriData& m);
+
 /// Holes of an oriented manifold triangle mesh (its boundary loops but the outlines of their
 /// pieces, kOutlineShare) and those whose bounding-box diagonal is below `maxDiag`.
 struct SmallHoles {
