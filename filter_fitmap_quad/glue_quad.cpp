@@ -91,7 +91,7 @@ void InitQuadParams(const MeshDocument& /*md*/, RichParameterList& par) {
   par.addParam(RichFloat(param::kCloseHoles, float(vcgext::CloseHolesParams().maxDiagonalPercent),
                          "Close small holes for the layout (% of diagonal, 0 = none)",
                          "Beyond the paper: the layer's holes smaller than this share of its bounding-box "
-                         "diagonal (and those of at most 6 edges below 10 %) are closed in the "
+                         "diagonal (and those of at most 6 straight sides below 10 %) are closed in the "
                          "simplification's working copy (vcglib's ear cutting, as Close Holes), so the cage "
                          "is laid out across them as across the surface around instead of keeping a ring of "
                          "patches round each; the fit, the displacement and every reported error still refer "
@@ -195,8 +195,9 @@ void CloseHolesForLayout(GlueContext& ctx, vcgext::WorkingCopy& w, double maxDia
   std::ostringstream n;
   n << "Fitmap Quad Simplification: closed " << c.closed << " of the layer's " << c.holes << " holes for the layout ("
     << c.closedAreaPct << " % of its area; those below " << maxDiagonalPercent << " % of the diagonal, or of at most "
-    << cp.maxEdges << " edges below " << cp.maxEdgesDiagonalPercent << " %"
+    << cp.maxEdges << " straight sides below " << cp.maxEdgesDiagonalPercent << " %"
     << (c.islands ? "; " + std::to_string(c.islands) + " round another sheet left open" : std::string())
+    << (c.pinched ? "; " + std::to_string(c.pinched) + " left open whose closing would pinch a vertex" : std::string())
     << (c.skipped ? "; " + std::to_string(c.skipped) + " left open" : std::string())
     << "): the cage spans them, the fit and its report refer to the layer as it is";
   ctx.log(n.str());

@@ -172,3 +172,101 @@ TEST(CloseHoles, HoleRoundAnIslandStaysOpen) {
   EXPECT_EQ(island.islands, 1);
   EXPECT_EQ(island.mesh.F, withIsland.F);
 }
+
+// A hole whose rim runs straight through several vertices (a mesh refined by edge midpoints:
+// bunny00 with 2 % of its faces deleted, ×16, had 101 such holes): ear cutting takes an ear of
+// three collinear points when nothing else is left. Here an L of three cells on a grid with
+// integer coordinates (exact collinearity; 8 rim vertices, two straight runs of three): the hole
+// is closed (it was left open), by triangles that all have an area, the grid flat and whole again.
+TEST(CloseHoles, CollinearRimIsClosedWithoutTrianglesOfNoArea) {
+  const vcgext::TriData g = testsupport::PlaneGrid(20, 20, 20.0);
+  vcgext::TriData holed;
+  holed.V = g.V;
+  const std::set<std::pair<int, int>> cells = {{4, 4}, {5, 4}, {5, 5}};
+  for (size_t f = 0; f < g.F.size(); ++f) {
+    const int cell = int(f / 2);
+    if (!cells.count({cell % 20, cell / 20})) holed.F.push_back(g.F[f]);
+  }
+  vcgext::CloseHolesParams p;
+  p.maxDiagonalPercent = 15;  // the hole's box: 10 % of the grid's diagonal
+  const vcgext::CloseHolesResult r = vcgext::CloseSmallHoles(holed, p);
+  EXPECT_TRUE(r.refused.empty()) << r.refused;
+  EXPECT_EQ(r.holes, 1);
+  EXPECT_EQ(r.skipped, 0);
+  ASSERT_EQ(r.closed, 1);
+  ASSERT_EQ(r.mesh.F.size(), holed.F.size() + 6);  // an 8-gon: six triangles
+  for (size_t f = holed.F.size(); f < r.mesh.F.size(); ++f) {
+    const auto& t = r.mesh.F[f];
+    const vcgext::Vec3 n = (r.mesh.V[size_t(t[1])] - r.mesh.V[size_t(t[0])]).cross(r.mesh.V[size_t(t[2])] - r.mesh.V[size_t(t[0])]);
+    EXPECT_GT(n.z(), 0) << "closing triangle " << f - holed.F.size() << " has no area or is flipped";
+  }
+  EXPECT_EQ(vcgext::BoundaryHalfEdges(r.mesh).size(), 80u);  // the outline only
+  EXPECT_NEAR(vcgext::TotalArea(r.mesh), 400.0, 1e-9);
+  ExpectOrientedManifold(r.mesh);
+}
+
+// The few-edges rule counts a hole's straight sides: a 2 x 2 cell hole of a 40 x 40 grid (5 % of
+// the diagonal, 8 edges on 4 sides, what a one-cell hole of a 20 x 20 grid becomes when every edge
+// is split at its midpoint) is closed as the one-cell hole is; a round hole of 8 edges as large
+// is not (it has 8 sides).
+TEST(CloseHoles, FewSidesRuleHoldsOnARefinedCopy) {
+  vcgext::TriData g = testsupport::PlaneGrid(40, 40);
+  vcgext::TriData square;
+  square.V = g.V;
+  for (size_t f = 0; f < g.F.size(); ++f) {
+    const int cell = int(f / 2), i = cell % 40, j = cell / 40;
+    if (!(i >= 10 && i < 12 && j >= 10 && j < 12)) square.F.push_back(g.F[f]);
+  }
+  const vcgext::CloseHolesResult r = vcgext::CloseSmallHoles(square);
+  EXPECT_EQ(r.holes, 1);
+  EXPECT_EQ(r.closed, 1);
+  ExpectOrientedManifold(r.mesh);
+  EXPECT_NEAR(vcgext::TotalArea(r.mesh), 1.0, 1e-9);
+
+  // the same hole with its four side midpoints pushed out by a tenth of a cell: 8 sides
+  vcgext::TriData round = square;
+  const double c = 0.025;  // one cell
+  round.V[size_t(10 * 41 + 11)].y() -= 0.1 * c;  // (11, 10): bottom side's middle
+  round.V[size_t(12 * 41 + 11)].y() += 0.1 * c;  // (11, 12): top
+  round.V[size_t(11 * 41 + 10)].x() -= 0.1 * c;  // (10, 11): left
+  round.V[size_t(11 * 41 + 12)].x() += 0.1 * c;  // (12, 11): right
+  const vcgext::CloseHolesResult o = vcgext::CloseSmallHoles(round);
+  EXPECT_EQ(o.holes, 1);
+  EXPECT_EQ(o.closed, 0);
+}
+
+// A hole that stays open (here round an island) through two copies of one point: those copies are
+// not joined (joined, they pinch its rim into a non-manifold vertex, which refused every closing),
+// and the other holes are closed as without it.
+TEST(CloseHoles, CopiesOfAnOpenLoopStayApartAndTheOthersClose) {
+  const std::set<std::pair<int, int>> cells = {{5, 5}, {6, 6}, {2, 2}};
+  const vcgext::TriData holed = GridWithHoles(cells);
+  vcgext::TMesh layer;
+  testsupport::ToVcg(holed, layer);
+  vcgext::WorkingCopy w = vcgext::PrepareWorkingCopy(layer);
+  ASSERT_TRUE(w.error.empty()) << w.error;
+  ASSERT_EQ(w.splitVertices, 1);
+  // an island over the two touching cells, 1e-6 above: their loop doubles a sheet
+  const vcgext::TriData grid = testsupport::PlaneGrid(20, 20);
+  for (size_t f = 0; f < grid.F.size(); ++f) {
+    const int cell = int(f / 2);
+    const std::pair<int, int> ij{cell % 20, cell / 20};
+    if (ij != std::make_pair(5, 5) && ij != std::make_pair(6, 6)) continue;
+    vcgext::Tri t;
+    for (int c = 0; c < 3; ++c) {
+      t[c] = int(w.mesh.V.size());
+      w.mesh.V.push_back(grid.V[size_t(grid.F[f][c])] + vcgext::Vec3(0, 0, 1e-6));
+    }
+    w.mesh.F.push_back(t);
+  }
+  vcgext::CloseHolesParams p;
+  p.maxDiagonalPercent = 20;
+  const vcgext::CloseHolesResult r = vcgext::CloseSmallHoles(w.mesh, p);
+  EXPECT_TRUE(r.refused.empty()) << r.refused;
+  EXPECT_EQ(r.islands, 1);
+  EXPECT_EQ(r.closed, 1);
+  EXPECT_EQ(r.joinedVertices, 0);
+  EXPECT_EQ(r.mesh.V, w.mesh.V);
+  ExpectOrientedManifold(r.mesh);
+  EXPECT_EQ(vcgext::BoundaryHalfEdges(r.mesh).size(), vcgext::BoundaryHalfEdges(w.mesh).size() - 4);
+}

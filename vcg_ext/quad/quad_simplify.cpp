@@ -18,7 +18,8 @@ namespace vcgext {
 
 using namespace simplify_internal;
 
-void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts) {
+void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts, std::vector<int>* where) {
+  if (where) where->clear();
   std::unordered_map<std::uint64_t, int> und, dir;
   und.reserve(m.F.size() * 2);
   dir.reserve(m.F.size() * 4);
@@ -32,7 +33,10 @@ void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts) {
   int e = 0;
   for (auto& [k, c] : und) {
     int a = int(k >> 32), b = int(k & 0xffffffffu);
-    if (c > 2 || dir[key(a, b)] > 1 || dir[key(b, a)] > 1) ++e;
+    if (c > 2 || dir[key(a, b)] > 1 || dir[key(b, a)] > 1) {
+      ++e;
+      if (where) where->insert(where->end(), {a, b});
+    }
   }
   // vertices: the fan of incident triangles must be one chain/cycle
   Adjacency vfa = VertexFaceAdjacency(m.F, int(m.V.size()));
@@ -71,7 +75,10 @@ void CountNonManifold(const TriData& m, int* nmEdges, int* nmVerts) {
     } else {
       bad = true;
     }
-    if (bad) ++nv;
+    if (bad) {
+      ++nv;
+      if (where) where->push_back(v);
+    }
   }
   if (nmEdges) *nmEdges = e;
   if (nmVerts) *nmVerts = nv;

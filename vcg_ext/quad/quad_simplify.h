@@ -384,8 +384,10 @@ QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& 
                                    const char* sAttr = "FitmapS", const char* mAttr = "FitmapM");
 
 /// Counts non-manifold edges (more than two faces or inconsistent orientation) and non-manifold
-/// vertices (fan not a single disk/half-disk) of a triangle mesh.
-void CountNonManifold(const TriData& m, int* nonManifoldEdges, int* nonManifoldVertices);
+/// vertices (fan not a single disk/half-disk) of a triangle mesh. `where` (optional) receives the
+/// non-manifold vertices and the non-manifold edges' ends (unsorted, possibly repeated).
+void CountNonManifold(const TriData& m, int* nonManifoldEdges, int* nonManifoldVertices,
+                      std::vector<int>* where = nullptr);
 
 // ---------------------------------------------------------------------------- templates
 template <class MeshType>
