@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <string>
 
+#include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/refine.h>
 
 #include "vcg_ext/core/indexed_mesh.h"
@@ -24,6 +25,13 @@ int main(int argc, char** argv) {
   if (!err.empty()) { std::fprintf(stderr, "%s: %s\n", argv[1], err.c_str()); return 1; }
   for (int l = 0; l < levels; ++l) {  // vcglib's edge-midpoint refinement, every edge (threshold 0)
     vcg::tri::UpdateTopology<vcgext::TMesh>::FaceFace(m);
+    // vcglib's refinement walks face-face adjacency and crashes on an edge of three faces or more
+    // (duplicate faces): say so instead
+    if (const int nm = vcg::tri::Clean<vcgext::TMesh>::CountNonManifoldEdgeFF(m); nm > 0) {
+      std::fprintf(stderr, "%s: %d non-manifold edges (more than two faces); midpoint refinement needs a manifold mesh\n",
+                   argv[1], nm);
+      return 1;
+    }
     vcg::tri::Refine<vcgext::TMesh>(m, vcg::tri::MidPoint<vcgext::TMesh>(&m), 0);
   }
   vcgext::TriData t;
