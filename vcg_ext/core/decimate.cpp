@@ -325,6 +325,9 @@ DecimateResult Remesh(const TriData& m, int faces) {
   vcg::tri::UpdateNormal<DMesh>::PerFaceNormalized(d);
   std::lock_guard<std::mutex> g(BitFlagLock());
   vcg::tri::IsotropicRemeshing<DMesh>::Do(d, ref, ip);
+  vcg::tri::UpdateTopology<DMesh>::FaceFace(d);
+  if (vcg::tri::Clean<DMesh>::CountNonManifoldEdgeFF(d) > 0 || vcg::tri::Clean<DMesh>::CountNonManifoldVertexFF(d, false) > 0)
+    return r;  // empty: not manifold
   r.mesh = FromDMesh(d);
   return r;
 }
@@ -368,6 +371,7 @@ bool FlipZeroAreaFaces(const TriData& m, TriData& out, int& flips) {
   out = FromDMesh(d);
   return ZeroAreaFaces(out) == 0;
 }
+
 }  // namespace
 
 DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams& p, vcg::CallBackPos* cb) {
@@ -377,7 +381,8 @@ DecimateResult WorkingResolution(const TriData& m, const WorkingResolutionParams
     const auto t0 = std::chrono::steady_clock::now();
     const int faces = std::max(p.minFaces, p.maxFaces > 0 ? std::min(int(m.F.size()), p.maxFaces) : int(m.F.size()));
     r = Remesh(m, faces);
-    r.remeshedValence = valence;
+    if (r.mesh.F.empty()) r.remeshRefusedValence = valence;  // not manifold: no start mesh
+    else r.remeshedValence = valence;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
   }
@@ -580,6 +585,14 @@ StartMesh ChooseStartMesh(const TriData& input, const StartMeshParams& p, vcg::C
   DecimateResult& work = s.work;
   work.seconds += base.seconds;
   work.decimated = work.decimated || base.decimated;
+  if (work.remeshRefusedValence > 0) {
+    s.error = "the input has a vertex of valence " + std::to_string(work.remeshRefusedValence) +
+              ", so the control mesh would start from an isotropic remesh of it (docs/robustness.md), and that remesh is "
+              "not manifold (vcglib's remeshing across narrow gaps: cracks or an unwelded seam?); weld the input first "
+              "(Filters > Cleaning and Repairing > Merge Close Vertices) or remesh it yourself (Remeshing, Simplification "
+              "and Reconstruction > Remeshing: Isotropic Explicit Remeshing)";
+    return s;
+  }
   if (base.skippedDegenerate || work.skippedDegenerate)
     s.warnings.push_back("the input has zero-area triangles that edge flips cannot remove (coincident corners), which the "
                          "decimation cannot handle: simplifying from the full input (slower; Filters > Cleaning and Repairing > "

@@ -44,6 +44,9 @@ struct DecimateResult {
   bool decimated = false;
   int refinements = 0;  ///< midpoint refinements applied to a small input (minFaces)
   int remeshedValence = 0;  ///< the highest valence that made the input be remeshed (maxValence), else 0
+  /// that valence when the remesh was not manifold (vcglib's isotropic remeshing across the narrow
+  /// gaps of a cracked scan): `mesh` is then empty (no start mesh), else 0
+  int remeshRefusedValence = 0;
   bool reused = false;             ///< the same request as the previous one in this process: its result, not recomputed
   bool skippedDegenerate = false;  ///< not decimated: zero-area faces that edge flips could not remove
   /// Edge flips that removed zero-area faces from the copy before its decimation (vcglib's quadrics
@@ -80,6 +83,7 @@ struct StartMesh {
   bool differs = false;               ///< false: start from the input itself
   std::vector<std::string> notes;     ///< log lines (what was done, at which size, how long)
   std::vector<std::string> warnings;  ///< log warnings
+  std::string error;                  ///< non-empty: there is no start mesh (says why and what to do)
 };
 /// The start mesh of the quad simplification of `input` (a WorkingCopy's mesh): WorkingResolution
 /// through M'_F, then to workingFaces, refined below minFaces, remeshed above maxValence. All zero

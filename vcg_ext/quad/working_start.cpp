@@ -18,6 +18,11 @@ namespace {
 QuadSimplifyResult SimplifyFrom(const TriData& input, const EmbreeScene& scene, const std::vector<double>& S,
                                 const std::vector<double>& M, const QuadSimplifyParams& params, const StartMesh& start,
                                 vcg::CallBackPos* cb) {
+  if (!start.error.empty()) {
+    QuadSimplifyResult r;
+    r.error = start.error;
+    return r;
+  }
   return SimplifyToQuads(input, scene, S, M, params, cb, nullptr, start.differs ? &start.work.mesh : nullptr);
 }
 
