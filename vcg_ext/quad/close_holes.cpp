@@ -68,8 +68,8 @@ size_t FaceWith(const std::vector<Tri>& faces, int a, int b, int& c) {
 // 101 of its 1 297 holes). In such a triangle (p, q, o) with p–q its longest edge, o lies on
 // p–q; p–q is shared with the closing's triangle (q, p, d), and flipping it to o–d splits that
 // triangle at o into two of positive area (unless d is on the line too: flipped again). An edge
-// o–d the mesh already has (`edges`: those between rim vertices) is not made. Returns whether
-// every triangle has an area.
+// o–d the mesh already has (`edges`: those of the faces round the loops) or the closing has is
+// not made. Returns whether every triangle has an area.
 bool FlipOutDegenerate(const std::vector<Vec3>& V, const std::set<std::pair<int, int>>& edges,
                        std::vector<Tri>& closing) {
   auto uses = [&](int a, int b) {
