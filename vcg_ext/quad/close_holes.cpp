@@ -116,7 +116,7 @@ bool CopiesOnLoop(const std::vector<Vec3>& V, const std::vector<int>& loop, std:
 
 // A loop's straight sides: its vertices where it turns by more than a degree. A run of collinear
 // edges counts once, so a hole of a few missing triangles keeps its count when the mesh is refined
-// by edge midpoints (bunny00 with 2 % of its faces deleted, ×16: 18 holes of 3-6 triangles above
+// by edge midpoints (bunny00 with 2 % of its faces deleted, ×16: 17 holes of 3-6 edges at x1 above
 // 2 % of the diagonal have 12-24 edges).
 int Sides(const std::vector<Vec3>& V, const std::vector<int>& loop) {
   const size_t n = loop.size();
