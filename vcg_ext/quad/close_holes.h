@@ -62,7 +62,7 @@ struct CloseHolesResult {
 /// cutting along collinear rim points) is mended by edge flips; one that would make a vertex or
 /// an edge non-manifold is left open (`pinched`). Loops are found on the arrays and vcglib is
 /// given only the faces round the chosen ones: 0.05 s on a closed 300k-triangle mesh, 0.8 s on
-/// one with 5 577 holes, 1.2 s on a 1.2 M-triangle one with 1 297 (the island check's Embree
+/// one with 5 577 holes, 1.4 s on a 1.2 M-triangle one with 1 297 (the island check's Embree
 /// scene of the input included).
 CloseHolesResult CloseSmallHoles(const TriData& m, const CloseHolesParams& p = {});
 
