@@ -19,6 +19,7 @@
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/cc_fit.h"
 #include "vcg_ext/fit/fit_io.h"
+#include "vcg_ext/subdiv/limit_surface.h"
 #include "vcg_ext/fit/fit_internal.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/io/mesh_io.h"
@@ -1107,4 +1108,83 @@ TEST(FitAndBake, ResultWarningsNameWhatIsFarOff) {
   EXPECT_NE(w[2].find("displaced surface stays 39.4 permille"), std::string::npos) << w[2];
   // the advice holds whether the cage came from a budget or from tau (the fit does not know)
   EXPECT_NE(w[2].find("more patches (a larger Target patches, or a smaller tau)"), std::string::npos) << w[2];
+}
+
+// A disc of quads round one pole of valence n (a fan: quad i = pole, ring 2i, 2i+1, 2i+2, the odd
+// ring points further out), on the paraboloid z = 0.2 (x² + y²) 0.05 above it, and the paraboloid
+// itself as a polar grid (rings × sectors) to fit to.
+static void PoleFan(int n, int rings, int sectors, QuadData& q, TriData& ref) {
+  q = QuadData();
+  q.V.emplace_back(0, 0, 0.05);
+  for (int i = 0; i < 2 * n; ++i) {
+    const double a = M_PI * i / n, r = i % 2 ? 1.0 : 0.8;
+    q.V.emplace_back(r * std::cos(a), r * std::sin(a), 0.2 * r * r + 0.05);
+  }
+  for (int i = 0; i < n; ++i) q.F.push_back({0, 1 + 2 * i, 2 + 2 * i, 1 + (2 * i + 2) % (2 * n)});
+  ref = TriData();
+  ref.V.emplace_back(0, 0, 0);
+  for (int k = 1; k <= rings; ++k)
+    for (int i = 0; i < sectors; ++i) {
+      const double r = 0.9 * k / rings, a = 2 * M_PI * i / sectors;
+      ref.V.emplace_back(r * std::cos(a), r * std::sin(a), 0.2 * r * r);
+    }
+  auto P = [&](int k, int i) { return 1 + (k - 1) * sectors + i % sectors; };
+  for (int i = 0; i < sectors; ++i) ref.F.push_back({0, P(1, i), P(1, i + 1)});
+  for (int k = 1; k < rings; ++k)
+    for (int i = 0; i < sectors; ++i) {
+      ref.F.push_back({P(k, i), P(k + 1, i), P(k + 1, i + 1)});
+      ref.F.push_back({P(k, i), P(k + 1, i + 1), P(k, i + 1)});
+    }
+}
+
+// Regression (2026-12-07): the fit's local blocks grow with the square of a face's stencil (~2n
+// entries round a vertex of valence n), n faces each: a cage with a pole of valence 1 024 took all
+// 24 GB of the machine within a minute and was killed. The fit now estimates its memory before it
+// builds a row and refuses with an error naming the pole; a pole of moderate valence still fits.
+TEST(CCFit, PoleOfHighValenceIsRefusedBeforeItsMemoryIsSpent) {
+  QuadData q;
+  TriData ref;
+  PoleFan(1024, 20, 200, q, ref);
+  EmbreeScene scene(ref);
+  FitParams p;
+  p.maxMemoryMb = 24 * 1024;  // this machine's memory: the estimate is ~140 GB
+  FitResult r = FitCatmullClark(q, ref, scene, p);
+  EXPECT_NE(r.error.find("would need about"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("vertex 0 has 1024 edges"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("24.0 GB allowed"), std::string::npos) << r.error;
+
+  PoleFan(12, 20, 200, q, ref);
+  EmbreeScene scene12(ref);
+  r = FitCatmullClark(q, ref, scene12);  // default: 80 % of the memory available
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  ASSERT_GE(r.dataRmsPerIteration.size(), 2u);
+  EXPECT_LT(r.dataRmsPerIteration[size_t(r.keptIteration)], 0.5 * r.dataRmsPerIteration.front());
+  p.maxMemoryMb = 0.01;  // the same pole under a budget it exceeds
+  r = FitCatmullClark(q, ref, scene12, p);
+  EXPECT_NE(r.error.find("MB allowed"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("vertex 0 has 12 edges"), std::string::npos) << r.error;
+}
+
+// The estimate follows Bfr's patch points (a fan's faces each depend on every vertex of the fan,
+// 2n + 1) and grows faster than the patch points themselves: with the same rows, the blocks grow
+// with their square.
+TEST(CCFit, MemoryEstimateFollowsThePatchPoints) {
+  FitParams p;
+  p.method = FitMethod::PointToPoint;  // no reference-vertex rows: the rows are the samples alone
+  double est[2];
+  int points[2];
+  for (int j = 0; j < 2; ++j) {
+    QuadData q;
+    TriData ref;
+    PoleFan(j == 0 ? 32 : 128, 2, 8, q, ref);
+    const LimitSurface ls = LimitSurface::FromQuads(q);
+    ASSERT_TRUE(ls.Ok()) << ls.Error();
+    const int nF = ls.NumFaces();
+    points[j] = ls.NumPatchPoints(0);
+    for (int f = 0; f < nF; ++f) EXPECT_EQ(ls.NumPatchPoints(f), points[j]);  // the fan is symmetric
+    est[j] = EstimateFitMemoryMb(ls, p, std::vector<int>(nF, 4), std::vector<double>(nF, 1.0), 0) / nF;
+  }
+  EXPECT_EQ(points[0], 2 * 32 + 1);  // every vertex of the fan: the pole and its ring
+  EXPECT_EQ(points[1], 2 * 128 + 1);
+  EXPECT_GT(est[1], 4.0 * est[0]);  // per face, 4× the patch points: more than 4× the memory
 }

@@ -366,3 +366,26 @@ TEST(LimitSurface, RejectsInteriorValenceTwoVertices) {
   EXPECT_FALSE(ls.Ok());
   EXPECT_NE(ls.Error().find("valence 2"), std::string::npos) << ls.Error();
 }
+
+// A vertex above LimitSurfaceOptions::maxValence is refused before OpenSubdiv builds anything
+// (round a vertex of valence 8 192 the surface would take ~9 GB), with an error that names it.
+TEST(LimitSurface, RefusesAVertexAboveMaxValence) {
+  auto fan = [](int n) {
+    vcgext::QuadData q;
+    q.V.emplace_back(0, 0, 0);
+    for (int i = 0; i < 2 * n; ++i)
+      q.V.emplace_back(std::cos(M_PI * i / n) * (i % 2 ? 1.0 : 0.8), std::sin(M_PI * i / n) * (i % 2 ? 1.0 : 0.8), 0);
+    for (int i = 0; i < n; ++i) q.F.push_back({0, 1 + 2 * i, 2 + 2 * i, 1 + (2 * i + 2) % (2 * n)});
+    return q;
+  };
+  auto ls = vcgext::LimitSurface::FromQuads(fan(2049));
+  EXPECT_FALSE(ls.Ok());
+  EXPECT_NE(ls.Error().find("vertex 0 has 2049 edges (at most 2048"), std::string::npos) << ls.Error();
+  vcgext::LimitSurfaceOptions opt;
+  opt.maxValence = 8;
+  EXPECT_TRUE(vcgext::LimitSurface::FromQuads(fan(8), opt).Ok());
+  ls = vcgext::LimitSurface::FromQuads(fan(9), opt);
+  EXPECT_NE(ls.Error().find("vertex 0 has 9 edges (at most 8"), std::string::npos) << ls.Error();
+  // Bfr's patch of a fan face depends on every vertex of the fan.
+  EXPECT_EQ(vcgext::LimitSurface::FromQuads(fan(8)).NumPatchPoints(3), 17);
+}

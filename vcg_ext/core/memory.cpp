@@ -44,6 +44,17 @@ double StagePeakMemoryMb() {
   return peak;
 }
 
+double AvailableMemoryMb() {
+  long kb = -1;
+  if (FILE* f = std::fopen("/proc/meminfo", "r")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, f))
+      if (std::strncmp(line, "MemAvailable:", 13) == 0) { kb = std::strtol(line + 13, nullptr, 10); break; }
+    std::fclose(f);
+  }
+  return kb > 0 ? kb / 1024.0 : 0.0;
+}
+
 double ProcessPeakMemoryMb() {
   RememberProcessPeak(HighWaterMb());
   return g_processPeakMb.load();

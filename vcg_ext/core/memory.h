@@ -19,6 +19,11 @@ double StagePeakMemoryMb();
 /// Largest resident memory (MB) the process has had, across all stages.
 double ProcessPeakMemoryMb();
 
+/// Memory (MB) the kernel could give this process now without swapping (MemAvailable of
+/// /proc/meminfo); 0 where it cannot be read. Used to refuse work that would exhaust the machine
+/// (FitParams::maxMemoryMb) with an error instead of being killed by the kernel.
+double AvailableMemoryMb();
+
 /// Per stage: name and peak resident memory in MB.
 using StageMemory = std::vector<std::pair<std::string, double>>;
 

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <numeric>
 
+#include "vcg_ext/core/memory.h"
 #include "vcg_ext/core/progress.h"
 #include "vcg_ext/core/stopwatch.h"
 #include <Eigen/Geometry>
@@ -125,12 +128,14 @@ std::string CheckFitParams(const FitParams& p) {
 
 // Where the fit samples (§3.5): k x k cell centres per patch, k from the patch's share of the
 // reference's area (samplesPerVertex per reference vertex, clamped to [minK, maxK]); `kOf`, the
-// prefix sums `sampleOffs`, and the degenerate patches and the range of k in `res`.
+// prefix sums `sampleOffs`, the patches' limit areas, and the degenerate patches and the range of
+// k in `res`.
 void PlanSamples(const LimitSurface& ls, const QuadData& control, const TriData& ref, const FitParams& p,
-                 double diag, double refArea, std::vector<int>& kOf, std::vector<int>& sampleOffs, FitResult& res) {
+                 double diag, double refArea, std::vector<int>& kOf, std::vector<int>& sampleOffs,
+                 std::vector<double>& area, FitResult& res) {
   const int nF = int(control.F.size());
   kOf.assign(nF, 0);
-  std::vector<double> area(nF);
+  area.assign(nF, 0.0);
 #pragma omp parallel for schedule(dynamic, 16)
   for (int f = 0; f < nF; ++f) area[f] = fitdetail::PatchArea(ls, control.V, f, 4);
   res.minKUsed = p.maxK;
@@ -154,6 +159,60 @@ void PlanSamples(const LimitSurface& ls, const QuadData& control, const TriData&
     res.maxKUsed = std::max(res.maxKUsed, k);
     sampleOffs[f + 1] = sampleOffs[f] + k * k;
   }
+}
+
+// EstimateFitMemoryMb's constants, fitted to what was measured (growth of VmHWM during the fit;
+// a fan of quads round one vertex over a 200k-vertex, 400k-triangle reference; default
+// parameters; 2026-12-07): valence 64 1.05 GB (estimate 1.12), 128 2.85 GB (3.2), 256 8.6 GB
+// (9.4). A stored stencil entry is an index and three weights (28 bytes) plus the vectors' spare
+// capacity; a local-block entry six doubles for the faces of one assembly chunk plus its scatter
+// position.
+constexpr double kFitBytesPerBlockEntry = 32;
+constexpr double kFitBytesPerStencilEntry = 48;
+
+}  // namespace
+
+double EstimateFitMemoryMb(const LimitSurface& ls, const FitParams& p, const std::vector<int>& kOf,
+                           const std::vector<double>& area, int refVertices) {
+  const int nF = ls.NumFaces();
+  const double totalArea = std::accumulate(area.begin(), area.end(), 0.0);
+  const bool tdm = p.method == FitMethod::TangentDistance && p.dataWeight > 0;
+  const int stride = p.maxDataRows > 0 && refVertices > p.maxDataRows
+                         ? (refVertices + p.maxDataRows - 1) / p.maxDataRows : 1;
+  const double dataRows = tdm ? double(refVertices) / stride : 0.0;
+  double bytes = 0;
+  for (int f = 0; f < nF && f < int(kOf.size()); ++f) {
+    const double m = ls.NumPatchPoints(f);
+    const double share = totalArea > 0 ? area[f] / totalArea : 1.0 / nF;
+    const double rows = double(kOf[f]) * kOf[f] + dataRows * share;
+    bytes += kFitBytesPerBlockEntry * m * m + kFitBytesPerStencilEntry * rows * m;
+  }
+  return bytes / (1024.0 * 1024.0);
+}
+
+namespace {
+
+// An error when the fit's memory (EstimateFitMemoryMb) would exceed p.maxMemoryMb or, when that
+// is 0, 80 % of the memory available now: the kernel would otherwise kill the process (MeshLab
+// with it). Names the vertex of highest valence, the usual cause.
+std::string CheckFitMemory(const LimitSurface& ls, const FitParams& p, const std::vector<int>& kOf,
+                           const std::vector<double>& area, int refVertices) {
+  const double budget = p.maxMemoryMb > 0 ? p.maxMemoryMb : 0.8 * AvailableMemoryMb();
+  if (!(budget > 0)) return {};
+  const double need = EstimateFitMemoryMb(ls, p, kOf, area, refVertices);
+  if (need <= budget) return {};
+  const std::vector<int>& val = ls.Valences();
+  const int v = int(std::max_element(val.begin(), val.end()) - val.begin());
+  auto size = [](double mb) {
+    char buf[32];
+    if (mb >= 1024) std::snprintf(buf, sizeof buf, "%.1f GB", mb / 1024.0);
+    else std::snprintf(buf, sizeof buf, "%.0f MB", std::ceil(mb));
+    return std::string(buf);
+  };
+  return "the fit would need about " + size(need) + " of memory, more than the " + size(budget) +
+         (p.maxMemoryMb > 0 ? " allowed" : " available") + ": its cost grows with the square of the control " +
+         "mesh's valences, and vertex " + std::to_string(v) + " has " + std::to_string(val[v]) +
+         " edges; remesh the control mesh round it (or fit a coarser reference)";
 }
 
 // The fixed rows of the fit: the stencils (A, ADu, ADv) of the patch samples [0, nS), then one
@@ -346,7 +405,10 @@ FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const Emb
 
   // ---- samples: k×k cell centres per patch + one corner sample per control vertex.
   std::vector<int> kOf, sampleOffs;
-  PlanSamples(ls, control, ref, p, diag, refArea, kOf, sampleOffs, res);
+  std::vector<double> area;
+  PlanSamples(ls, control, ref, p, diag, refArea, kOf, sampleOffs, area, res);
+  res.error = CheckFitMemory(ls, p, kOf, area, int(ref.V.size()));
+  if (!res.error.empty()) return res;
   const int nS = sampleOffs[nF];
   res.samples = nS;
 

@@ -30,6 +30,8 @@
 
 namespace vcgext {
 
+class LimitSurface;
+
 /// How the project → solve iterations measure the distance of the limit to the reference.
 enum class FitMethod {
   /// The paper's §3.5: every limit sample is pulled to its projection phi along the limit normal
@@ -88,6 +90,13 @@ struct FitParams {
   /// goes on (up to maxIterations) while the objective still improves and the data RMS improves
   /// by minImprovement or more. docs/fit.md "Which iterate is kept".
   bool keepLowestDataRms = true;
+  /// Refuse (FitResult::error) a fit whose memory (EstimateFitMemoryMb) would exceed this many MB;
+  /// 0: 80 % of the memory available when the fit starts (AvailableMemoryMb). A vertex of valence
+  /// n gives its faces stencils of ~2n + 8 control points and the fit's local blocks their square:
+  /// measured on a fan of quads round one vertex over a 200k-vertex reference, valence 64 took
+  /// 1.1 GB in 26 s, 256 took 8.7 GB in 441 s, 1 024 exhausted 24 GB and was killed
+  /// (docs/robustness.md "Poles in a control mesh").
+  double maxMemoryMb = 0;
 };
 
 /// Outcome of FitCatmullClark. When `error` is non-empty, only `error` is meaningful.
@@ -113,10 +122,20 @@ struct FitResult {
 /// Fits the control points of `control` (pure quads, manifold, consistently oriented) so that
 /// its Catmull-Clark limit surface approximates `ref` (paper §3.5). `scene` must be built on `ref`.
 /// Errors: empty/invalid control mesh (LimitSurface validation), empty reference, scene not ok,
-/// limit samples mostly missing the reference (control far away). Degenerate patches are counted.
-/// Cost: O(S·s²) assembly (S samples, s ≈ 16–40 stencil entries), one sparse LDLT of size
+/// limit samples mostly missing the reference (control far away), more memory than allowed
+/// (FitParams::maxMemoryMb, checked before any row is built). Degenerate patches are counted.
+/// Cost: O(S·s²) assembly (S samples, s ≈ 16–40 stencil entries, ~2n round a vertex of valence n), one sparse LDLT of size
 /// #control vertices, and per iteration S ray casts + 3 triangular solves.
 FitResult FitCatmullClark(const QuadData& control, const TriData& ref, const EmbreeScene& scene,
                           const FitParams& p = {}, vcg::CallBackPos* cb = nullptr);
+
+/// The fit's memory in MB beyond its inputs, estimated before any row is built: per face f with
+/// m_f patch points (LimitSurface::NumPatchPoints) and r_f rows (its k_f² samples plus, for
+/// TangentDistance, its area share of the reference-vertex rows),
+/// kFitBytesPerBlockEntry · m_f² (the local block and its scatter map) +
+/// kFitBytesPerStencilEntry · r_f · m_f (the stored stencils). `kOf` and `area` per face as the
+/// fit plans them (samples per side, limit area).
+double EstimateFitMemoryMb(const LimitSurface& ls, const FitParams& p, const std::vector<int>& kOf,
+                           const std::vector<double>& area, int refVertices);
 
 }  // namespace vcgext

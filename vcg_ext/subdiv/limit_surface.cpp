@@ -267,6 +267,22 @@ int CountIrregular(int nV, const std::vector<int>& valence, const std::vector<ch
 
 }  // namespace
 
+namespace {
+
+// A vertex above maxValence (> 0): an error that names it and the remeshing filter.
+std::string CheckMaxValence(const std::vector<int>& valence, int maxValence) {
+  if (maxValence <= 0 || valence.empty()) return {};
+  const auto it = std::max_element(valence.begin(), valence.end());
+  if (*it <= maxValence) return {};
+  return "vertex " + std::to_string(it - valence.begin()) + " has " + std::to_string(*it) + " edges (at most " +
+         std::to_string(maxValence) +
+         " are supported: the limit surface round such a vertex takes gigabytes); remesh the control mesh there "
+         "first (e.g. Filters > Remeshing, Simplification and Reconstruction > Remeshing: Isotropic Explicit "
+         "Remeshing, then pair the triangles into quads)";
+}
+
+}  // namespace
+
 std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
   const bool loop = opt_.scheme == SubdivScheme::Loop;
   std::string err = CheckFaceSizes(nV, sizes, verts, loop);
@@ -282,7 +298,7 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   err = CheckDoublets(nV, valence_, boundary);
   if (!err.empty()) return err;
   numIrregular_ = CountIrregular(nV, valence_, boundary, loop);
-  return {};
+  return CheckMaxValence(valence_, opt_.maxValence);
 }
 
 namespace {
@@ -375,6 +391,11 @@ void LimitSurface::Build(int nV, const std::vector<int>& sizes, const std::vecto
   auto impl = std::make_unique<Impl>();
   error_ = impl->InitSurfaces(*refiner, opt_);
   if (error_.empty()) impl_ = std::move(impl);
+}
+
+int LimitSurface::NumPatchPoints(int face) const {
+  if (!impl_ || face < 0 || face >= NumFaces()) return 0;
+  return impl_->cvOffs[face + 1] - impl_->cvOffs[face];
 }
 
 bool LimitSurface::FaceIsRegular(int face) const {
