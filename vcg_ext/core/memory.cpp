@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -53,6 +54,19 @@ double AvailableMemoryMb() {
     std::fclose(f);
   }
   return kb > 0 ? kb / 1024.0 : 0.0;
+}
+
+std::string CheckMemory(double needMb, double budgetMb, const std::string& what) {
+  const double budget = budgetMb > 0 ? budgetMb : 0.8 * AvailableMemoryMb();
+  if (!(budget > 0) || needMb <= budget) return {};
+  auto size = [](double mb) {
+    char buf[32];
+    if (mb >= 1024) std::snprintf(buf, sizeof buf, "%.1f GB", mb / 1024.0);
+    else std::snprintf(buf, sizeof buf, "%.0f MB", std::ceil(mb));
+    return std::string(buf);
+  };
+  return what + " would need about " + size(needMb) + " of memory, more than the " + size(budget) +
+         (budgetMb > 0 ? " allowed" : " available");
 }
 
 double ProcessPeakMemoryMb() {

@@ -24,6 +24,12 @@ double ProcessPeakMemoryMb();
 /// (FitParams::maxMemoryMb) with an error instead of being killed by the kernel.
 double AvailableMemoryMb();
 
+/// "" when `needMb` fits the budget — `budgetMb`, or when that is 0, 80 % of AvailableMemoryMb()
+/// (nothing is refused where that cannot be read) — else "<what> would need about X of memory,
+/// more than the Y allowed / available". Work that would exhaust the machine is refused with it
+/// before it starts: the kernel would otherwise kill the process (MeshLab with it).
+std::string CheckMemory(double needMb, double budgetMb, const std::string& what);
+
 /// Per stage: name and peak resident memory in MB.
 using StageMemory = std::vector<std::pair<std::string, double>>;
 

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numeric>
 
 #include "vcg_ext/core/memory.h"
@@ -197,22 +196,13 @@ namespace {
 // with it). Names the vertex of highest valence, the usual cause.
 std::string CheckFitMemory(const LimitSurface& ls, const FitParams& p, const std::vector<int>& kOf,
                            const std::vector<double>& area, int refVertices) {
-  const double budget = p.maxMemoryMb > 0 ? p.maxMemoryMb : 0.8 * AvailableMemoryMb();
-  if (!(budget > 0)) return {};
-  const double need = EstimateFitMemoryMb(ls, p, kOf, area, refVertices);
-  if (need <= budget) return {};
+  const std::string err =
+      CheckMemory(EstimateFitMemoryMb(ls, p, kOf, area, refVertices), p.maxMemoryMb, "the fit");
+  if (err.empty()) return err;
   const std::vector<int>& val = ls.Valences();
   const int v = int(std::max_element(val.begin(), val.end()) - val.begin());
-  auto size = [](double mb) {
-    char buf[32];
-    if (mb >= 1024) std::snprintf(buf, sizeof buf, "%.1f GB", mb / 1024.0);
-    else std::snprintf(buf, sizeof buf, "%.0f MB", std::ceil(mb));
-    return std::string(buf);
-  };
-  return "the fit would need about " + size(need) + " of memory, more than the " + size(budget) +
-         (p.maxMemoryMb > 0 ? " allowed" : " available") + ": its cost grows with the square of the control " +
-         "mesh's valences, and vertex " + std::to_string(v) + " has " + std::to_string(val[v]) +
-         " edges; remesh the control mesh round it (or fit a coarser reference)";
+  return err + ": its cost grows with the square of the control mesh's valences, and vertex " + std::to_string(v) +
+         " has " + std::to_string(val[v]) + " edges; remesh the control mesh round it (or fit a coarser reference)";
 }
 
 // The fixed rows of the fit: the stencils (A, ADu, ADv) of the patch samples [0, nS), then one
