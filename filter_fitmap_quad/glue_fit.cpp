@@ -78,8 +78,8 @@ void InitFitParams(const MeshDocument& md, RichParameterList& par) {
 
 namespace {
 
-// The control layer as quads, at the precision of MeshLab 2020.09's float layer, doublets
-// merged; logs what was paired or merged.
+// The control layer as quads, at the precision of MeshLab 2020.09's float layer, coincident
+// vertices welded, doublets merged; logs what was paired, welded or merged.
 bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& quads) {
   int ambiguous = 0;
   std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
@@ -89,6 +89,9 @@ bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& qu
   if (ambiguous > 0)
     ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
             " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
+  if (int nw = vcgext::WeldCoincidentVertices(quads))
+    ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
+            " control vertices onto others of the same coordinates (quads exported each on its own vertices)");
   // Foreign quad meshes (e.g. MeshLab's triangle pairing) may contain doublets (interior
   // valence-2 vertices): merge them, as the simplification does (§3.3.3).
   if (int nd = vcgext::RemoveDoublets(quads))

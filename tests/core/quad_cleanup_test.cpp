@@ -69,3 +69,47 @@ TEST(RemoveDoublets, LeavesCleanMeshesAndBoundaryCornersAlone) {
 }
 
 }  // namespace
+
+namespace {
+// Every quad on its own four vertices (an unwelded export).
+vcgext::QuadData Unwelded(const vcgext::QuadData& q) {
+  vcgext::QuadData u;
+  for (const auto& f : q.F) {
+    const int b = int(u.V.size());
+    for (int k = 0; k < 4; ++k) u.V.push_back(q.V[f[k]]);
+    u.F.push_back({b, b + 1, b + 2, b + 3});
+  }
+  return u;
+}
+}  // namespace
+
+TEST(WeldCoincidentVertices, RestoresAnUnweldedCube) {
+  auto q = Unwelded(Cube());
+  ASSERT_EQ(q.V.size(), 24u);
+  EXPECT_EQ(EulerCharacteristic(q), 6);  // six separate discs
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(q), 16);
+  EXPECT_EQ(q.V.size(), 8u);
+  ASSERT_EQ(q.F.size(), 6u);
+  EXPECT_EQ(EulerCharacteristic(q), 2);
+  // The same quads as the welded cube's, corner for corner, by coordinates.
+  const auto cube = Cube();
+  for (size_t f = 0; f < q.F.size(); ++f)
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(q.V[q.F[f][k]], cube.V[cube.F[f][k]]) << f << " " << k;
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(q), 0);  // nothing left to weld
+}
+
+TEST(WeldCoincidentVertices, LeavesCleanMeshesAndSheetsApartOnPurposeAlone) {
+  auto q = Cube();
+  const auto before = q;
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(q), 0);
+  EXPECT_EQ(q.F, before.F);
+  // A square doubled with the same orientation: welding would make each edge run twice the same
+  // way (two coincident sheets, not one surface): left apart.
+  vcgext::QuadData d;
+  for (int i = 0; i < 8; ++i) d.V.emplace_back(i & 1 ? 1 : 0, i & 2 ? 1 : 0, 0);
+  d.F = {{0, 1, 3, 2}, {4, 5, 7, 6}};
+  const auto d0 = d;
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(d), 0);
+  EXPECT_EQ(d.F, d0.F);
+  EXPECT_EQ(d.V.size(), d0.V.size());
+}

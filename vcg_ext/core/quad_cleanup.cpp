@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <tuple>
 
 namespace vcgext {
 
@@ -70,6 +71,51 @@ int RemoveDoublets(QuadData& q) {
   q.F.swap(F);
   q.V.swap(V);
   return removed;
+}
+
+namespace {
+// Whether every quad has four distinct corners and every edge is used by at most two quads,
+// running it in opposite directions.
+bool EdgeManifoldAndOriented(const std::vector<Quad>& F) {
+  std::map<std::pair<int, int>, int> directed;
+  for (const Quad& f : F)
+    for (int k = 0; k < 4; ++k) {
+      for (int j = 0; j < k; ++j)
+        if (f[j] == f[k]) return false;
+      if (++directed[{f[k], f[(k + 1) % 4]}] > 1) return false;  // twice the same way (or 3+ quads)
+    }
+  return true;
+}
+}  // namespace
+
+int WeldCoincidentVertices(QuadData& q) {
+  auto key = [&](int v) { return std::make_tuple(q.V[v].x(), q.V[v].y(), q.V[v].z()); };
+  std::map<std::tuple<double, double, double>, int> first;
+  std::vector<int> into(q.V.size());
+  int merged = 0;
+  for (int v = 0; v < int(q.V.size()); ++v) {
+    auto [it, isNew] = first.emplace(key(v), v);
+    into[v] = it->second;
+    if (!isNew) ++merged;
+  }
+  if (merged == 0) return 0;
+  std::vector<Quad> F = q.F;
+  for (Quad& f : F)
+    for (int& c : f) c = into[c];
+  if (!EdgeManifoldAndOriented(F)) return 0;
+  std::vector<int> remap(q.V.size(), -1);
+  std::vector<Vec3> V;
+  for (Quad& f : F)
+    for (int& c : f) {
+      if (remap[c] < 0) {
+        remap[c] = int(V.size());
+        V.push_back(q.V[c]);
+      }
+      c = remap[c];
+    }
+  q.F.swap(F);
+  q.V.swap(V);
+  return merged;
 }
 
 }  // namespace vcgext
