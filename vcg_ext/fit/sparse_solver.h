@@ -113,5 +113,29 @@ class SpdSolver {
   int fallbacks_ = 0;
 };
 
+/// An SpdSolver's factorization (of an earlier matrix) as the preconditioner of Eigen's
+/// ConjugateGradient: the tangent-distance fit's later systems differ from the first only by the
+/// rows' normals and foot points, so a few conjugate-gradient steps preconditioned with the first
+/// factorization replace a refactorization (FitParams::reuseFactorizationFrom). `Use` it before
+/// the solver's compute(); compute() itself does nothing.
+class FactorPreconditioner {
+ public:
+  using StorageIndex = int;
+  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic };
+  FactorPreconditioner() = default;
+  void Use(const SpdSolver* s, Eigen::Index n) { s_ = s; n_ = n; }
+  template <typename M> FactorPreconditioner& analyzePattern(const M&) { return *this; }
+  template <typename M> FactorPreconditioner& factorize(const M&) { return *this; }
+  template <typename M> FactorPreconditioner& compute(const M&) { return *this; }
+  template <typename Rhs> Eigen::VectorXd solve(const Rhs& b) const { return s_->solve(b); }
+  Eigen::ComputationInfo info() const { return s_ ? s_->info() : Eigen::InvalidInput; }
+  Eigen::Index rows() const { return n_; }
+  Eigen::Index cols() const { return n_; }
+
+ private:
+  const SpdSolver* s_ = nullptr;
+  Eigen::Index n_ = 0;
+};
+
 }  // namespace fitdetail
 }  // namespace vcgext

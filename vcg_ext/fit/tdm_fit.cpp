@@ -15,6 +15,7 @@
 // every iteration. Assembly is per face (dense local blocks, added in face order).
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#include <Eigen/IterativeLinearSolvers>
 
 #include <algorithm>
 #include <array>
@@ -460,6 +461,35 @@ Step ChooseStep(IterateChoice& ch, double obj, double dRms, int it, const FitPar
   ch.lastDataRms = dRms;
   return stop ? Step::Stop : Step::Solve;
 }
+
+// H sol = rhs: by the factorization of H, or (reuse, once factored) by conjugate gradients from
+// the current iterate X preconditioned with the latest factorization, which is redone when they
+// do not converge in 50 steps, and at the next solve when they took more than 10
+// (FitParams::reuseFactorizationFrom). False when the factorization fails.
+bool Solve(const SpMat& H, const Eigen::VectorXd& rhs, const Eigen::MatrixXd& X, bool reuse, bool& factored,
+           SpdSolver& solver, Eigen::VectorXd& sol, FitResult& res) {
+  if (reuse && factored) {
+    Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper, FactorPreconditioner> cg;
+    cg.preconditioner().Use(&solver, H.rows());
+    cg.setTolerance(1e-13);
+    cg.setMaxIterations(50);
+    cg.compute(H);
+    const int nV = int(X.rows());
+    Eigen::VectorXd x0(3 * nV);
+    for (int c = 0; c < 3; ++c) x0.segment(c * nV, nV) = X.col(c);
+    sol = cg.solveWithGuess(rhs, x0);
+    res.conjugateGradientSteps += int(cg.iterations());
+    if (cg.iterations() > 10) factored = false;  // the factorization has aged: redo it next time
+    if (cg.info() == Eigen::Success) return true;
+  }
+  solver.factorize(H);
+  if (solver.info() != Eigen::Success) return false;
+  factored = true;
+  ++res.factorizations;
+  sol = solver.solve(rhs);
+  return true;
+}
+
 }  // namespace
 
 std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const EmbreeScene& scene,
@@ -475,6 +505,8 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
   SpMat H = BlockPattern(pat.P);
   SpdSolver solver(int(H.rows()));
   solver.analyzePattern(H);
+  const bool reuse = p.reuseFactorizationFrom > 0 && H.rows() >= p.reuseFactorizationFrom;
+  bool factored = false;
 
   TdmRows R;
   R.cons.resize(size_t(nR) + nRef);
@@ -518,9 +550,8 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
     Assemble(pat, R, rowFace, nR, nV, p.tangentWeight, ne);
     const double lambda = FillSystem(pat, p, ch.dampingScale, nV, ne, H);
     for (int c = 0; c < 3; ++c) ne.rhs.segment(c * nV, nV) += lambda * X.col(c);
-    solver.factorize(H);
-    if (solver.info() != Eigen::Success) { res.secondsSolve += Since(ts); break; }
-    Eigen::VectorXd sol = solver.solve(ne.rhs);
+    Eigen::VectorXd sol;
+    if (!Solve(H, ne.rhs, X, reuse, factored, solver, sol, res)) { res.secondsSolve += Since(ts); break; }
     res.secondsSolve += Since(ts);
     ++res.iterations;
     if (!sol.allFinite()) break;
