@@ -91,10 +91,10 @@ struct FitParams {
   /// by minImprovement or more. docs/fit.md "Which iterate is kept".
   bool keepLowestDataRms = true;
   /// TangentDistance: a system of at least this many unknowns (3 per control vertex) is
-  /// factorized at the first solve only (and again when conjugate gradients do not converge); the
-  /// later solves are conjugate gradients preconditioned with that factorization, from the
-  /// current iterate, to a relative residual of 1e-10 (FactorPreconditioner). 0: refactorize every
-  /// iteration. The default leaves every cage of the pipeline (up to a few thousand patches) as
+  /// factorized at the first solve only; the later solves are conjugate gradients preconditioned
+  /// with that factorization, from the current iterate, to a relative residual of 1e-10
+  /// (FactorPreconditioner); it is refactorized when they do not converge in 50 steps, and at the
+  /// next solve when they needed more than 10. 0: refactorize every iteration. The default leaves every cage of the pipeline (up to a few thousand patches) as
   /// before; a 55k-quad cage (166k unknowns) spent 110 of its fit's 129 s in 8 factorizations
   /// (docs/fit.md "Large control meshes").
   int reuseFactorizationFrom = 30000;

@@ -23,6 +23,18 @@
 namespace vcgext {
 namespace fitdetail {
 
+/// OpenMP's thread count set to 1 for the scope (the calling thread's setting only). Measured
+/// 2026-12-03 on bunny00 at 3 000 patches: CHOLMOD's factorizations through OpenMP-threaded
+/// OpenBLAS took 9.4 s with 2 threads (libgomp spinning between small BLAS calls) and 2.1 s
+/// with 1.
+struct OneThread {
+#ifdef _OPENMP
+  int saved = omp_get_max_threads();
+  OneThread() { omp_set_num_threads(1); }
+  ~OneThread() { omp_set_num_threads(saved); }
+#endif
+};
+
 class SpdSolver {
  public:
   using SpMat = Eigen::SparseMatrix<double>;
@@ -94,17 +106,6 @@ class SpdSolver {
   bool UsesCholmod() const { return !useLdlt_; }
 
  private:
-  /// OpenMP's thread count set to 1 for the scope (the calling thread's setting only). Measured
-  /// 2026-12-03 on bunny00 at 3 000 patches: CHOLMOD's factorizations through OpenMP-threaded
-  /// OpenBLAS took 9.4 s with 2 threads (libgomp spinning between small BLAS calls) and 2.1 s
-  /// with 1.
-  struct OneThread {
-#ifdef _OPENMP
-    int saved = omp_get_max_threads();
-    OneThread() { omp_set_num_threads(1); }
-    ~OneThread() { omp_set_num_threads(saved); }
-#endif
-  };
 #ifdef FITMAP_HAVE_CHOLMOD
   Eigen::CholmodSupernodalLLT<SpMat> cholmod_;
 #endif
@@ -127,7 +128,12 @@ class FactorPreconditioner {
   template <typename M> FactorPreconditioner& analyzePattern(const M&) { return *this; }
   template <typename M> FactorPreconditioner& factorize(const M&) { return *this; }
   template <typename M> FactorPreconditioner& compute(const M&) { return *this; }
-  template <typename Rhs> Eigen::VectorXd solve(const Rhs& b) const { return s_->solve(b); }
+  /// One OpenMP thread, as for the factorizations (OneThread): the triangular solves' BLAS
+  /// calls are as small, and a second thread would only spin while the machine is shared.
+  template <typename Rhs> Eigen::VectorXd solve(const Rhs& b) const {
+    OneThread one;
+    return s_->solve(b);
+  }
   Eigen::ComputationInfo info() const { return s_ ? s_->info() : Eigen::InvalidInput; }
   Eigen::Index rows() const { return n_; }
   Eigen::Index cols() const { return n_; }

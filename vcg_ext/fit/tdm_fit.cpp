@@ -471,7 +471,7 @@ bool Solve(const SpMat& H, const Eigen::VectorXd& rhs, const Eigen::MatrixXd& X,
   if (reuse && factored) {
     Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper, FactorPreconditioner> cg;
     cg.preconditioner().Use(&solver, H.rows());
-    cg.setTolerance(1e-13);
+    cg.setTolerance(1e-10);
     cg.setMaxIterations(50);
     cg.compute(H);
     const int nV = int(X.rows());
