@@ -16,6 +16,21 @@ bool RotateTo(Quad& f, int v) {
     }
   return false;
 }
+
+// The vertices of V that F uses, in order of first use; F renumbered to them.
+std::vector<Vec3> CompactVertices(std::vector<Quad>& F, const std::vector<Vec3>& V) {
+  std::vector<int> remap(V.size(), -1);
+  std::vector<Vec3> out;
+  for (Quad& f : F)
+    for (int& c : f) {
+      if (remap[c] < 0) {
+        remap[c] = int(out.size());
+        out.push_back(V[c]);
+      }
+      c = remap[c];
+    }
+  return out;
+}
 }  // namespace
 
 int RemoveDoublets(QuadData& q) {
@@ -57,19 +72,9 @@ int RemoveDoublets(QuadData& q) {
   std::vector<Quad> F;
   for (size_t f = 0; f < q.F.size(); ++f)
     if (!dead[f]) F.push_back(q.F[f]);
-  std::vector<int> remap(q.V.size(), -1);
-  std::vector<Vec3> V;
-  for (auto& f : F)
-    for (int& c : f) {
-      if (remap[c] < 0) {
-        remap[c] = int(V.size());
-        V.push_back(q.V[c]);
-      }
-      c = remap[c];
-    }
   if (removed == 0) return 0;  // keep vertex order (and unreferenced vertices) when nothing changed
+  q.V = CompactVertices(F, q.V);
   q.F.swap(F);
-  q.V.swap(V);
   return removed;
 }
 
@@ -103,18 +108,8 @@ int WeldCoincidentVertices(QuadData& q) {
   for (Quad& f : F)
     for (int& c : f) c = into[c];
   if (!EdgeManifoldAndOriented(F)) return 0;
-  std::vector<int> remap(q.V.size(), -1);
-  std::vector<Vec3> V;
-  for (Quad& f : F)
-    for (int& c : f) {
-      if (remap[c] < 0) {
-        remap[c] = int(V.size());
-        V.push_back(q.V[c]);
-      }
-      c = remap[c];
-    }
+  q.V = CompactVertices(F, q.V);
   q.F.swap(F);
-  q.V.swap(V);
   return merged;
 }
 
