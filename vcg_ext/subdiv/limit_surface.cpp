@@ -265,12 +265,8 @@ int CountIrregular(int nV, const std::vector<int>& valence, const std::vector<ch
   return irregular;
 }
 
-}  // namespace
-
-namespace {
-
 // A vertex above maxValence (> 0): an error that names it and the remeshing filter.
-std::string CheckMaxValence(const std::vector<int>& valence, int maxValence) {
+std::string CheckMaxValence(const std::vector<int>& valence, int maxValence, bool loop) {
   if (maxValence <= 0 || valence.empty()) return {};
   const auto it = std::max_element(valence.begin(), valence.end());
   if (*it <= maxValence) return {};
@@ -278,7 +274,7 @@ std::string CheckMaxValence(const std::vector<int>& valence, int maxValence) {
          std::to_string(maxValence) +
          " are supported: the limit surface round such a vertex takes gigabytes); remesh the control mesh there "
          "first (e.g. Filters > Remeshing, Simplification and Reconstruction > Remeshing: Isotropic Explicit "
-         "Remeshing, then pair the triangles into quads)";
+         "Remeshing" + std::string(loop ? ")" : ", then pair the triangles into quads)");
 }
 
 }  // namespace
@@ -298,7 +294,7 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   err = CheckDoublets(nV, valence_, boundary);
   if (!err.empty()) return err;
   numIrregular_ = CountIrregular(nV, valence_, boundary, loop);
-  return CheckMaxValence(valence_, opt_.maxValence);
+  return CheckMaxValence(valence_, opt_.maxValence, loop);
 }
 
 namespace {
