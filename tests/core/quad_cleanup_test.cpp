@@ -98,7 +98,7 @@ TEST(WeldCoincidentVertices, RestoresAnUnweldedCube) {
   EXPECT_EQ(vcgext::WeldCoincidentVertices(q), 0);  // nothing left to weld
 }
 
-TEST(WeldCoincidentVertices, LeavesCleanMeshesAndSheetsApartOnPurposeAlone) {
+TEST(WeldCoincidentVertices, LeavesCleanMeshesAndPiecesApartOnPurposeAlone) {
   auto q = Cube();
   const auto before = q;
   EXPECT_EQ(vcgext::WeldCoincidentVertices(q), 0);
@@ -112,4 +112,18 @@ TEST(WeldCoincidentVertices, LeavesCleanMeshesAndSheetsApartOnPurposeAlone) {
   EXPECT_EQ(vcgext::WeldCoincidentVertices(d), 0);
   EXPECT_EQ(d.F, d0.F);
   EXPECT_EQ(d.V.size(), d0.V.size());
+  // Two closed cubes touching at a corner (the copies the filters' input preparation makes where
+  // pieces touch): every edge would stay manifold, but the corner would get two fans: left apart.
+  vcgext::QuadData two = Cube();
+  const auto b = Cube();
+  const int off = int(two.V.size());
+  for (const auto& v : b.V) two.V.push_back(v + vcgext::Vec3(1, 1, 1));  // b's corner 0 on a's corner 7
+  for (auto f : b.F) {
+    for (int& c : f) c += off;
+    two.F.push_back(f);
+  }
+  const auto two0 = two;
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(two), 0);
+  EXPECT_EQ(two.F, two0.F);
+  EXPECT_EQ(two.V.size(), 16u);
 }

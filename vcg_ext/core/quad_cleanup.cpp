@@ -94,11 +94,20 @@ bool EdgeManifoldAndOriented(const std::vector<Quad>& F) {
 }  // namespace
 
 int WeldCoincidentVertices(QuadData& q) {
+  // Vertices on an edge of one quad: only they are welded (an interior vertex has its fan).
+  std::map<std::pair<int, int>, int> edgeUse;
+  for (const Quad& f : q.F)
+    for (int k = 0; k < 4; ++k) ++edgeUse[std::minmax(f[k], f[(k + 1) % 4])];
+  std::vector<char> boundary(q.V.size(), 0);
+  for (const auto& [e, n] : edgeUse)
+    if (n == 1) boundary[e.first] = boundary[e.second] = 1;
   auto key = [&](int v) { return std::make_tuple(q.V[v].x(), q.V[v].y(), q.V[v].z()); };
   std::map<std::tuple<double, double, double>, int> first;
   std::vector<int> into(q.V.size());
   int merged = 0;
   for (int v = 0; v < int(q.V.size()); ++v) {
+    into[v] = v;
+    if (!boundary[v]) continue;
     auto [it, isNew] = first.emplace(key(v), v);
     into[v] = it->second;
     if (!isNew) ++merged;

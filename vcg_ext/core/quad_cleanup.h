@@ -12,14 +12,15 @@ namespace vcgext {
 /// are left alone. Returns the number of doublets removed. Cost: O(F) per pass, few passes.
 int RemoveDoublets(QuadData& q);
 
-/// Welds the vertices of equal coordinates (bitwise) of a quad control mesh exported with every
-/// quad on its own vertices (an unwelded OBJ/STL-style export): without it each quad is a piece
-/// of its own whose limit surface shrinks to a small patch inside the quad. Vertices left
+/// Welds the boundary vertices of equal coordinates (bitwise) of a quad control mesh exported
+/// with every quad on its own vertices (an unwelded OBJ/STL-style export): without it each quad
+/// is a piece of its own whose limit surface shrinks to a small patch inside the quad. Only
+/// vertices on an edge of a single quad are welded: an interior vertex has its own fan of quads
+/// (the copies of a vertex where two pieces touch, split on purpose, stay apart). Vertices left
 /// unreferenced are dropped (indices compacted, first use order). All or nothing: when the welded
 /// mesh would have a quad repeating a corner, or an edge of more than two quads or of two quads
-/// running it the same way (coincident vertices that are apart on purpose: a cage touching
-/// itself), `q` is left as it is. Returns the number of vertices merged into another (0 when
-/// nothing changed). Cost: O(V log V + F log F).
+/// running it the same way (sheets apart on purpose), `q` is left as it is. Returns the number
+/// of vertices merged into another (0 when nothing changed). Cost: O(V log V + F log F).
 int WeldCoincidentVertices(QuadData& q);
 
 }  // namespace vcgext
