@@ -162,8 +162,9 @@ void PlanSamples(const LimitSurface& ls, const QuadData& control, const TriData&
 
 // EstimateFitMemoryMb's constants, fitted to what was measured (growth of VmHWM during the fit;
 // a fan of quads round one vertex over a 200k-vertex, 400k-triangle reference; default
-// parameters; 2026-12-07): valence 64 1.05 GB (estimate 1.12), 128 2.85 GB (3.2), 256 8.6 GB
-// (9.4). A stored stencil entry is an index and three weights (28 bytes) plus the vectors' spare
+// parameters; 2026-12-07): valence 64 1.05 GB (estimate 0.99), 128 2.85 GB (2.9), 256 8.6 GB
+// (8.3): within -4 ... +2 %, which the 20 % of the available memory CheckMemory leaves covers.
+// A stored stencil entry is an index and three weights (28 bytes) plus the vectors' spare
 // capacity; a local-block entry six doubles for the faces of one assembly chunk plus its scatter
 // position.
 constexpr double kFitBytesPerBlockEntry = 32;
@@ -176,9 +177,7 @@ double EstimateFitMemoryMb(const LimitSurface& ls, const FitParams& p, const std
   const int nF = ls.NumFaces();
   const double totalArea = std::accumulate(area.begin(), area.end(), 0.0);
   const bool tdm = p.method == FitMethod::TangentDistance && p.dataWeight > 0;
-  const int stride = p.maxDataRows > 0 && refVertices > p.maxDataRows
-                         ? (refVertices + p.maxDataRows - 1) / p.maxDataRows : 1;
-  const double dataRows = tdm ? double(refVertices) / stride : 0.0;
+  const double dataRows = tdm ? double(refVertices) / fitdetail::DataStride(p, refVertices) : 0.0;
   double bytes = 0;
   for (int f = 0; f < nF && f < int(kOf.size()); ++f) {
     const double m = ls.NumPatchPoints(f);

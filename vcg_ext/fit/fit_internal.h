@@ -16,6 +16,12 @@
 namespace vcgext {
 namespace fitdetail {
 
+/// TangentDistance: every how-many-th reference vertex gets a row (FitParams::maxDataRows; 1 =
+/// every one). The fit's rows and its memory estimate both use it.
+inline int DataStride(const FitParams& p, int refVertices) {
+  return p.maxDataRows > 0 && refVertices > p.maxDataRows ? (refVertices + p.maxDataRows - 1) / p.maxDataRows : 1;
+}
+
 /// Area of the limit patch `f`, from an n×n tessellation.
 double PatchArea(const LimitSurface& ls, const std::vector<Vec3>& ctrl, int f, int n);
 /// Projection phi of p onto the reference: nearest hit of the line p ± t·n (|t| <= maxDist),

@@ -499,7 +499,7 @@ std::string FitTangentDistance(const LimitSurface& ls, const TriData& ref, const
                                Progress& prog) {
   const int nV = ls.NumVertices(), nR = int(rows.size()), nRef = int(ref.V.size());
   // maxDataRows: every dataStride-th reference vertex gets a row (weighted dataStride times).
-  const int dataStride = p.maxDataRows > 0 && nRef > p.maxDataRows ? (nRef + p.maxDataRows - 1) / p.maxDataRows : 1;
+  const int dataStride = DataStride(p, nRef);
   const auto refN = FaceNormals(ref);
   TdmPattern pat = BuildPattern(ls, rows, rowFace, LtL, p.smoothWeight > 0);
   SpMat H = BlockPattern(pat.P);

@@ -373,7 +373,6 @@ std::vector<std::vector<Tri>> Closings(const TriData& input, const std::vector<i
 }
 }  // namespace
 
-
 CloseHolesResult CloseSmallHoles(const TriData& input, const CloseHolesParams& p) {
   CloseHolesResult r;
   r.mesh = input;
