@@ -15,6 +15,7 @@ using quadtest::SyntheticFitmaps;
 #include "vcg_ext/quad/cc_limit.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/quad_simplify.h"
+#include "vcg_ext/quad/simplify_internal.h"
 #include "vcg_ext/core/decimate.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fit/cc_fit.h"
@@ -96,9 +97,17 @@ TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardGoesDownTheLadder) {
 // A first pass far above the budget (more than 2.5 x) tries the coarse starts first, and the
 // same start with the guard doubled (rung 1, a whole pass on the working start) only when they
 // miss (budget_ladder.cpp kFarAboveBudget). The cigar of the test above, whose first pass stops at
-// 24 patches (measured 2026-12-05): budgets of 10 and 12 (24 <= 2.5 x) run rung 1 first as before;
-// 6 and 8 are reached by a coarse start and rung 1 never runs; for 9 the coarse starts miss
-// (15 patches) and rung 1 runs last.
+// 24 patches: budgets of 10 and 12 (24 <= 2.5 x) run rung 1 first; 6, 8 and 9 run the coarse
+// starts first and rung 1 last, only when they missed. Which of the far budgets the coarse starts
+// reach depends on the host: on this knife-edge shape the rungs' discrete choices follow the last
+// bits of Embree's and OpenBLAS's CPU-specific kernels (docs/quad.md "Limitations"; 6 and 8 on the
+// Xeon hosts, kept at 6 and 8 patches; none on an AMD EPYC host, kept at 12, 15 and 15). So the test
+// asserts what holds on every host: the rungs' order given what they reached, every far budget
+// brought below the first pass, and the ladder's rule for a kept retry checked again from the first
+// pass alone (`budgetLadder` false): closer to the budget; fitted, at most twice the first pass's
+// RMS scaled by the patch ratio; and where its interpolating limit flips more than the first
+// pass's (the EPYC host's 12 patches @ 6: a 24-triangle start paired, 2 flipped vertices), fitted,
+// folding no more and leaving at most 0.1 % more unprojectable (RetryCoversAsWell).
 TEST(QuadSimplify, BudgetFarBelowTheFirstPassTriesTheCoarseStartsFirst) {
   quadtest::CigarBudget c;
   vcgext::EmbreeScene scene(c.t);
@@ -106,13 +115,19 @@ TEST(QuadSimplify, BudgetFarBelowTheFirstPassTriesTheCoarseStartsFirst) {
     auto p = c.p;
     p.targetPatches = budget;
     const auto r = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, p);
+    p.budgetLadder = false;
+    const auto first = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, p);
     ASSERT_EQ(r.error, "");
-    ExpectGuarantees(c.t, r);
-    std::printf("budget %d: first pass %d, rungs run \"%s\", kept rung %d: %d patches\n", budget, r.budgetFromPatches,
-                r.budgetRungsRun.c_str(), r.budgetRelaxations, r.patches);
+    ASSERT_EQ(first.error, "");
+    quadtest::ExpectTopologyGuarantees(c.t, r);
+    std::printf("budget %d: first pass %d, rungs run \"%s\", kept rung %d: %d patches, %d flipped\n", budget,
+                r.budgetFromPatches, r.budgetRungsRun.c_str(), r.budgetRelaxations, r.patches,
+                r.flippedPatches + r.flippedVertices);
     ASSERT_EQ(r.budgetFromPatches, 24) << "the cigar's first pass";
+    ASSERT_EQ(first.patches, 24) << "the first pass alone";
     ASSERT_FALSE(r.budgetRungsRun.empty());
     const bool far = r.budgetFromPatches > 2.5 * budget;
+    EXPECT_EQ(far, budget < 10);
     const bool reached = vcgext::BudgetReached(r.patches, budget);
     if (!far) {
       EXPECT_EQ(r.budgetRungsRun[0], '1') << budget;
@@ -123,6 +138,24 @@ TEST(QuadSimplify, BudgetFarBelowTheFirstPassTriesTheCoarseStartsFirst) {
       EXPECT_EQ(r.budgetRungsRun.back(), '1') << budget << ": rung 1 after the coarse starts missed";
       EXPECT_EQ(r.budgetRungsRun.find('1'), r.budgetRungsRun.size() - 1) << budget;
     }
-    EXPECT_EQ(far && reached, budget == 6 || budget == 8) << budget;
+    if (far) {
+      EXPECT_LT(r.patches, first.patches) << budget;
+    }
+    if (r.budgetRelaxations == 0) {
+      EXPECT_EQ(r.quads.F, first.quads.F) << budget << ": no retry kept, the first pass";
+      continue;
+    }
+    // the kept retry, judged again against the first pass
+    EXPECT_LT(std::abs(r.patches - budget), std::abs(first.patches - budget)) << budget;
+    namespace si = vcgext::simplify_internal;
+    const si::FittedMeasure mf = si::MeasureAsReported(c.t, scene, first.quads, true),
+                            mr = si::MeasureAsReported(c.t, scene, r.quads, true);
+    EXPECT_LE(mr.rms, 2.0 * mf.rms * first.patches / r.patches) << budget;
+    if (r.flippedPatches + r.flippedVertices > first.flippedPatches + first.flippedVertices) {
+      EXPECT_LE(mr.folds, mf.folds) << budget;
+      EXPECT_LE(mr.unprojectablePct, mf.unprojectablePct + 0.1) << budget;
+    } else {
+      EXPECT_EQ(r.flippedPatches + r.flippedVertices, 0) << budget;
+    }
   }
 }

@@ -10,6 +10,7 @@
 #include "simplify_test_util.h"
 #include "bumpy_sphere.h"
 #include "test_support.h"
+#include "vcg_ext/core/decimate.h"
 #include "vcg_ext/quad/quad_simplify.h"
 #include "vcg_ext/quad/quad_mesh.h"
 #include "vcg_ext/quad/working_start.h"
@@ -129,7 +130,12 @@ TEST(WorkingStart, UndecimatableInputHasNoFirstStart) {
 // the cigar of the budget-ladder tests (5 120 triangles, a 12-patch budget its first pass stops at
 // 24 above) as a dense input with a working resolution of 4 000 triangles and a first start of
 // 1 000. Until 2026-12-05 23:50 (one pass, no ladder) that first start missed the budget (its pass:
-// 31 patches) and the working resolution ran.
+// 31 patches) and the working resolution ran. The first start's cage is the plain ladder's from
+// that start bit for bit and below its first pass alone; kept when at most 1.1 x the budget, else
+// the working resolution runs. Which of the two happens depends on the host (the cigar's rungs
+// follow the last bits of CPU-specific kernels, docs/quad.md "Limitations"): on the Xeon hosts the
+// first start's ladder came within 1.1 x and was kept; on an AMD EPYC host it stops at 22 (its first
+// pass 25) and the working resolution's ladder reaches 13.
 TEST(WorkingStart, FirstStartUnderABudgetGoesDownItsOwnLadder) {
   quadtest::CigarBudget c;
   vcgext::EmbreeScene scene(c.t);
@@ -137,18 +143,38 @@ TEST(WorkingStart, FirstStartUnderABudgetGoesDownItsOwnLadder) {
   sp.workingFaces = 4000;
   const vcgext::WorkingStartResult w = vcgext::SimplifyFromWorkingStart(c.t, scene, c.S, c.M, c.p, sp, 1000);
   ASSERT_EQ(w.result.error, "");
-  quadtest::ExpectGuarantees(c.t, w.result);
-  std::printf("cigar @ 12 from a first start of %d triangles: %d patches (first pass %d, rungs run %s, kept rung %d)\n",
-              w.firstStartFaces, w.result.patches, w.result.budgetFromPatches, w.result.budgetRungsRun.c_str(),
-              w.result.budgetRelaxations);
+  quadtest::ExpectTopologyGuarantees(c.t, w.result);
+  std::printf("cigar @ 12 from a first start of %d triangles: %d patches, kept %d (%s); %d patches (first pass %d, rungs run %s, kept rung %d)\n",
+              w.firstStartFaces, w.firstPatches, int(w.firstKept), w.fallbackReason.c_str(), w.result.patches,
+              w.result.budgetFromPatches, w.result.budgetRungsRun.c_str(), w.result.budgetRelaxations);
   EXPECT_NEAR(w.firstStartFaces, 1000, 8);
-  EXPECT_TRUE(w.firstKept) << w.fallbackReason;
-  EXPECT_GT(w.result.budgetRelaxations, 0) << "a rung of the first start's ladder";
-  EXPECT_GT(w.result.budgetFromPatches, 12);
-  EXPECT_LE(w.result.patches, vcgext::kFirstStartBudgetSlack * 12);
-  EXPECT_EQ(w.firstPatches, w.result.patches);
-  // the first start itself, simplified with the same parameters, gives the same cage bit for bit
-  const auto direct = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, c.p, nullptr, nullptr, &w.start.work.mesh);
-  EXPECT_EQ(direct.quads.F, w.result.quads.F);
-  EXPECT_EQ(direct.quads.V, w.result.quads.V);
+  // the first start as SimplifyFromWorkingStart decimates it, simplified with and without the ladder
+  vcgext::StartMeshParams fp = sp;
+  fp.workingFaces = 1000;
+  const vcgext::StartMesh first = vcgext::ChooseStartMesh(c.t, fp);
+  ASSERT_TRUE(first.work.decimated);
+  EXPECT_EQ(w.firstStartFaces, int(first.work.mesh.F.size()));
+  const auto ladder = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, c.p, nullptr, nullptr, &first.work.mesh);
+  auto alone = c.p;
+  alone.budgetLadder = false;
+  const auto firstPass = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, alone, nullptr, nullptr, &first.work.mesh);
+  EXPECT_GT(firstPass.patches, 12);
+  EXPECT_EQ(ladder.budgetFromPatches, firstPass.patches);
+  EXPECT_FALSE(ladder.budgetRungsRun.empty()) << "the first start's own ladder";
+  EXPECT_LT(ladder.patches, firstPass.patches);
+  EXPECT_EQ(w.firstPatches, ladder.patches);
+  if (ladder.patches <= vcgext::kFirstStartBudgetSlack * 12) {
+    EXPECT_TRUE(w.firstKept) << w.fallbackReason;
+    EXPECT_EQ(ladder.quads.F, w.result.quads.F);
+    EXPECT_EQ(ladder.quads.V, w.result.quads.V);
+  } else {
+    EXPECT_FALSE(w.firstKept);
+    EXPECT_NE(w.fallbackReason.find("its ladder stopped above 1.1 x the budget"), std::string::npos) << w.fallbackReason;
+    // the working resolution's start and ladder, bit for bit
+    const vcgext::StartMesh work = vcgext::ChooseStartMesh(c.t, sp);
+    EXPECT_EQ(w.start.work.mesh.F.size(), work.work.mesh.F.size());
+    const auto direct = vcgext::SimplifyToQuads(c.t, scene, c.S, c.M, c.p, nullptr, nullptr, &work.work.mesh);
+    EXPECT_EQ(direct.quads.F, w.result.quads.F);
+    EXPECT_EQ(direct.quads.V, w.result.quads.V);
+  }
 }
