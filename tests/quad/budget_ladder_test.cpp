@@ -100,7 +100,7 @@ TEST(QuadSimplify, BudgetStoppedByTheThinPartGuardGoesDownTheLadder) {
 // 24 patches: budgets of 10 and 12 (24 <= 2.5 x) run rung 1 first; 6, 8 and 9 run the coarse
 // starts first and rung 1 last, only when they missed. Which of the far budgets the coarse starts
 // reach depends on the host: on this knife-edge shape the rungs' discrete choices follow the last
-// bits of Embree's and OpenBLAS's CPU-specific kernels (docs/quad.md "Limitations"; 6 and 8 on the
+// bits of CPU-specific kernels, Embree's among them (docs/quad.md "Limitations"; 6 and 8 on the
 // Xeon hosts, kept at 6 and 8 patches; none on an AMD EPYC host, kept at 12, 15 and 15). So the test
 // asserts what holds on every host: the rungs' order given what they reached, every far budget
 // brought below the first pass, and the ladder's rule for a kept retry checked again from the first
