@@ -470,6 +470,31 @@ TEST(LoopSurface, BadInputGivesErrors) {
   }
 }
 
+// A target whose memory (EstimateLoopRefineMemoryMb) exceeds the budget is refused before any
+// work, with an error that names it; a budget above it refines. The estimate (fitted to
+// meshlabserver's peak memory, loop_tools.cpp) covers at least the result's own arrays.
+TEST(LoopRefine, TargetBeyondTheMemoryBudgetIsRefused) {
+  LoopSurface s(testsupport::LoadSample("fandisk.off"));
+  ASSERT_TRUE(s.Ok()) << s.Error();
+  vcgext::LoopRefineParams rp;
+  rp.targetFaces = 300000;
+  const double need = vcgext::EstimateLoopRefineMemoryMb(rp.targetFaces);
+  EXPECT_DOUBLE_EQ(vcgext::EstimateLoopRefineMemoryMb(2L * rp.targetFaces), 2 * need);
+  rp.maxMemoryMb = 0.9 * need;
+  const auto refused = vcgext::RefineLoopSurface(s, rp);
+  EXPECT_NE(refused.error.find("refining to 300000 triangles would need about"), std::string::npos) << refused.error;
+  EXPECT_NE(refused.error.find("allowed; choose fewer target triangles"), std::string::npos) << refused.error;
+  EXPECT_TRUE(refused.mesh.F.empty());
+  EXPECT_EQ(refused.passes, 0);
+  rp.maxMemoryMb = 1.1 * need;
+  const auto r = vcgext::RefineLoopSurface(s, rp);
+  ASSERT_EQ(r.error, "");
+  EXPECT_GE(int(r.mesh.F.size()), rp.targetFaces);
+  const double arrays = double(r.mesh.V.size()) * (sizeof(Vec3) + sizeof(int) + 2 * sizeof(double)) +
+                        double(r.mesh.F.size()) * sizeof(vcgext::Tri);
+  EXPECT_LE(arrays / (1024.0 * 1024.0), need);
+}
+
 TEST(LoopVcg, EntryPointsOnVcgMesh) {
   TriData d = testsupport::LoadSample("elephant.off");
   vcgext::TMesh in, out;
@@ -489,6 +514,32 @@ TEST(LoopVcg, EntryPointsOnVcgMesh) {
   EXPECT_EQ(sn.error, "");
   EXPECT_GT(sn.maxDistance, 0);
   EXPECT_LT(sn.maxDistance, 0.05 * vcgext::BBoxDiagonal(d.V));
+}
+
+// A control net too large for the memory at the default cache depth (here: a budget between the
+// estimates of depth 0 and 1) is evaluated with a shallower cache: the filters' entry points warn
+// and give the same values (the deep paths agree: LoopSurface.DeepEvaluationPathsAgree).
+TEST(LoopVcg, ShallowerCacheUnderAMemoryBudgetWarnsAndAgrees) {
+  TriData d = testsupport::LoadSample("elephant.off");
+  vcgext::TMesh full, low;
+  testsupport::ToVcg(d, full);
+  testsupport::ToVcg(d, low);
+  LoopSurfaceParams sp;
+  const auto rf = vcgext::LoopCurvatureToQuality(full, sp, vcgext::LoopCurvatureKind::MaxAbs);
+  ASSERT_EQ(rf.error, "");
+  EXPECT_TRUE(rf.warnings.empty());
+  const long n = long(d.F.size());
+  sp.maxMemoryMb = 0.5 * (vcgext::EstimateLoopSurfaceMemoryMb(n, 0, 0) + vcgext::EstimateLoopSurfaceMemoryMb(n, 0, 1));
+  const auto rl = vcgext::LoopCurvatureToQuality(low, sp, vcgext::LoopCurvatureKind::MaxAbs);
+  ASSERT_EQ(rl.error, "");
+  ASSERT_EQ(rl.warnings.size(), 1u);
+  EXPECT_NE(rl.warnings[0].find("caches 0 levels"), std::string::npos) << rl.warnings[0];
+  double worst = 0, largest = 0;
+  for (size_t i = 0; i < full.vert.size(); ++i) {
+    worst = std::max(worst, double(std::abs(full.vert[i].Q() - low.vert[i].Q())));
+    largest = std::max(largest, double(std::abs(full.vert[i].Q())));
+  }
+  EXPECT_LE(worst, 1e-6 * largest);
 }
 
 // Points ON the surface snap to themselves (distance ~0), including near extraordinary corners

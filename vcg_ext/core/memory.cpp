@@ -14,16 +14,23 @@ namespace vcgext {
 namespace {
 std::atomic<double> g_processPeakMb{0.0};
 
+// The value (kB) of the line starting with `key` in the /proc file `path`, else -1.
+long ProcKb(const char* path, const char* key) {
+  long kb = -1;
+  const size_t n = std::strlen(key);
+  if (FILE* f = std::fopen(path, "r")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, f))
+      if (std::strncmp(line, key, n) == 0) { kb = std::strtol(line + n, nullptr, 10); break; }
+    std::fclose(f);
+  }
+  return kb;
+}
+
 /// VmHWM of /proc/self/status in MB; getrusage's peak where /proc is missing.
 double HighWaterMb() {
-  if (FILE* f = std::fopen("/proc/self/status", "r")) {
-    char line[256];
-    long kb = -1;
-    while (std::fgets(line, sizeof line, f))
-      if (std::strncmp(line, "VmHWM:", 6) == 0) { kb = std::strtol(line + 6, nullptr, 10); break; }
-    std::fclose(f);
-    if (kb >= 0) return kb / 1024.0;
-  }
+  const long kb = ProcKb("/proc/self/status", "VmHWM:");
+  if (kb >= 0) return kb / 1024.0;
   struct rusage ru;
   return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : 0.0;
 }
@@ -46,13 +53,7 @@ double StagePeakMemoryMb() {
 }
 
 double AvailableMemoryMb() {
-  long kb = -1;
-  if (FILE* f = std::fopen("/proc/meminfo", "r")) {
-    char line[256];
-    while (std::fgets(line, sizeof line, f))
-      if (std::strncmp(line, "MemAvailable:", 13) == 0) { kb = std::strtol(line + 13, nullptr, 10); break; }
-    std::fclose(f);
-  }
+  const long kb = ProcKb("/proc/meminfo", "MemAvailable:");
   return kb > 0 ? kb / 1024.0 : 0.0;
 }
 

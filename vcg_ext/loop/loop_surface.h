@@ -64,7 +64,18 @@ struct LoopSurfaceParams {
   /// valence 2000 builds in 4.1 s and refines to 100k triangles in 4.3 s; UV-sphere poles of
   /// valence 500 in 0.4 s + 0.4 s (docs/robustness.md). 0 = no limit.
   int maxValence = 2048;
+  /// Memory (MB) the surface may take (EstimateLoopSurfaceMemoryMb); 0: 80 % of the memory
+  /// available when it is built (CheckMemory). The cache depth is lowered, down to 0, until the
+  /// surface fits (CacheDepth() tells the one used: evaluations get slower, not wrong); a net
+  /// that does not fit even then is refused with an error (Ok() false).
+  double maxMemoryMb = 0;
 };
+
+/// Memory (MB) a LoopSurface of `irregularFaces` triangles subdivided locally and `regularFaces`
+/// box-spline triangles takes with `cacheDepth` cached levels (measured, loop_surface.cpp
+/// kLoopBytes*): ~9 kB per irregular triangle at the default depth 2, so a 5 M-triangle scan
+/// would take ~40 GB.
+double EstimateLoopSurfaceMemoryMb(long irregularFaces, long regularFaces, int cacheDepth);
 
 /// Everything an evaluation returns. Derivatives are with respect to (v, w).
 struct LoopEval {
@@ -141,6 +152,9 @@ class LoopSurface {
   std::pair<int, int> VertexCorner(int i) const { return vcorner_[i]; }
   /// Memory of the precomputed patches, bytes.
   size_t CacheBytes() const;
+  /// The cache depth used: LoopSurfaceParams::cacheDepth, or lower when that would not fit the
+  /// memory (LoopSurfaceParams::maxMemoryMb).
+  int CacheDepth() const { return cacheDepth_; }
   /// Bounding-box diagonal of the control net (computed once at construction).
   double NetDiagonal() const;
 
@@ -156,6 +170,7 @@ class LoopSurface {
   std::vector<std::pair<int, int>> vcorner_;
   int numHardEdges_ = 0;
   int numIrregularFaces_ = 0;
+  int cacheDepth_ = 0;
   LoopSurfaceParams params_;
   std::unique_ptr<Impl> impl_;
 };

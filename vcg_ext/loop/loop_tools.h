@@ -71,6 +71,9 @@ struct LoopRefineParams {
   int swapPasses = 2;           ///< max-min angle swap rounds after each insertion pass (first over the faces the pass changed, then over the faces swapped and their neighbours)
   /// Adaptive: metric = (max|k| + flatWeight / diag) * area, so flat regions still refine slowly.
   double flatWeight = 1.0;
+  /// Refuse (LoopRefineResult::error) a refinement whose memory (EstimateLoopRefineMemoryMb)
+  /// would exceed this many MB; 0: 80 % of the memory available when it starts (CheckMemory).
+  double maxMemoryMb = 0;
 };
 struct LoopRefineResult {
   std::string error;
@@ -88,5 +91,11 @@ struct LoopRefineResult {
 /// crease curve), and sweeps max-min-angle edge swaps (hard edges are never swapped). Stops at
 /// `targetFaces` or `tolerance`. Cost: O(target) evaluations. Progress through `cb`.
 LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams& p, vcg::CallBackPos* cb = nullptr);
+
+/// Memory (MB) that refining to `targetFaces` triangles takes in MeshLab's "Loop Surrogate: Refine
+/// Surface": the refiner's arrays, its result, the filter's vcglib mesh and the layer's copy
+/// (measured, loop_tools.cpp kLoopRefineBytesPerTriangle). RefineLoopSurface refuses a target
+/// beyond LoopRefineParams::maxMemoryMb before any work: the kernel would otherwise kill MeshLab.
+double EstimateLoopRefineMemoryMb(long targetFaces);
 
 }  // namespace vcgext
