@@ -436,9 +436,6 @@ void AdviseHugePages(LoopSurface::Impl& I) {
   }
 #endif
 }
-}  // namespace
-
-namespace {
 
 // EstimateLoopSurfaceMemoryMb's constants (bytes), fitted to what was measured: the growth of the
 // peak resident memory while the surface is built (2026-12-07). Per irregular triangle 1.7 kB with

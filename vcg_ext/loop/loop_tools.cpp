@@ -510,10 +510,6 @@ void SwapRounds(const LoopRefineParams& p, Refiner& R, std::vector<int>& cand, s
   }
 }
 
-}  // namespace
-
-namespace {
-
 // EstimateLoopRefineMemoryMb's constant, fitted to what was measured: meshlabserver's peak resident
 // memory (`/usr/bin/time`, loop_refine.mlx, adaptive, bunny00's 75k-triangle net, 2026-12-07) above
 // its run to 1e5 triangles (674 MB): +210 MB at 1e6 triangles (estimate 229), +696 MB at 4e6 (916),
@@ -564,7 +560,7 @@ LoopRefineResult RefineLoopSurface(const LoopSurface& s, const LoopRefineParams&
     ++res.passes;
     prog(100.0 * double(R.F.size()) / p.targetFaces, "Loop surrogate: refining");
   }
-  // moved, not copied: the copies were the refinement's peak (bunny00 to 3e6 triangles: 586 MB)
+  // moved, not copied (the refiner's peak, bunny00 to 3e6 triangles: 586 -> 576 MB)
   res.mesh.V = std::move(R.P);
   res.mesh.F = std::move(R.F);
   res.paramFace = std::move(R.pf);
