@@ -522,13 +522,13 @@ LoopSurface::LoopSurface(const TriData& net, const LoopSurfaceParams& p) : net_(
   impl_->maxDepth = std::max(1, std::min(p.maxDepth, 40));
   // the deepest cache up to p.cacheDepth that fits the memory (a 5 M-triangle scan at depth 2: ~40 GB)
   const long regular = CountBoxSplineFaces(net, vtype_, impl_->hardNb, vf), irregular = nF - regular;
-  int cacheDepth = std::max(0, std::min(p.cacheDepth, 10));
-  while (cacheDepth > 0 &&
-         !CheckMemory(EstimateLoopSurfaceMemoryMb(irregular, regular, cacheDepth), p.maxMemoryMb, "").empty())
-    --cacheDepth;
-  error_ = CheckMemory(EstimateLoopSurfaceMemoryMb(irregular, regular, cacheDepth), p.maxMemoryMb,
-                       "the Loop surface of " + std::to_string(nF) + " triangles (" + std::to_string(irregular) +
-                           " of them next to an extraordinary or crease vertex)");
+  const std::string what = "the Loop surface of " + std::to_string(nF) + " triangles (" + std::to_string(irregular) +
+                           " of them next to an extraordinary or crease vertex)";
+  int cacheDepth = RequestedCacheDepth(p);
+  for (;; --cacheDepth) {
+    error_ = CheckMemory(EstimateLoopSurfaceMemoryMb(irregular, regular, cacheDepth), p.maxMemoryMb, what);
+    if (error_.empty() || cacheDepth == 0) break;
+  }
   if (!error_.empty()) {
     error_ += "; decimate the mesh first (Simplification: Quadric Edge Collapse Decimation)";
     return;

@@ -32,6 +32,7 @@
 ///
 /// Thread safety: the surface is immutable after construction; all const queries may run
 /// concurrently.
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <string>
@@ -70,6 +71,9 @@ struct LoopSurfaceParams {
   /// that does not fit even then is refused with an error (Ok() false).
   double maxMemoryMb = 0;
 };
+
+/// The cache depth `p` asks for, within the levels a surface caches (0..10).
+inline int RequestedCacheDepth(const LoopSurfaceParams& p) { return std::max(0, std::min(p.cacheDepth, 10)); }
 
 /// Memory (MB) a LoopSurface of `irregularFaces` triangles subdivided locally and `regularFaces`
 /// box-spline triangles takes with `cacheDepth` cached levels (measured, loop_surface.cpp

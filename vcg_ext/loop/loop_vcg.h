@@ -3,7 +3,6 @@
 /// vcg-mesh entry points of the Loop surrogate toolkit (for the MeshLab filters "Loop
 /// Surrogate: Refine Surface / Snap Points / Curvature"). Each validates the input layer (see
 /// ImportTriangles and LoopSurface), leaves it untouched on error and returns the error string.
-#include <algorithm>
 #include <map>
 #include <set>
 #include <string>
@@ -45,7 +44,7 @@ bool LoopWorkingCopy(const MeshType& m, WorkingCopy& w, LoopVcgReport& rep) {
 /// A warning in `rep` when the surface `s` was built with a shallower cache than `sp` asked for
 /// (LoopSurfaceParams::maxMemoryMb): the results are the same, the evaluations slower.
 inline void WarnIfCacheLowered(const LoopSurface& s, const LoopSurfaceParams& sp, LoopVcgReport& rep) {
-  const int asked = std::max(0, std::min(sp.cacheDepth, 10));
+  const int asked = RequestedCacheDepth(sp);
   if (!s.Ok() || s.CacheDepth() >= asked) return;
   rep.warnings.push_back("the control net is too large for the memory available at cache depth " + std::to_string(asked) +
                          ": its surface caches " + std::to_string(s.CacheDepth()) +
