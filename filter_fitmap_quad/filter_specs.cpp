@@ -29,8 +29,10 @@ const FilterSpec kFilters[] = {
      "layer is not modified. A layer that is already quads is simplified as quads.",
      PluginBase::Remeshing | PluginBase::Polygonal},
     {FP_FIT_AND_BAKE, "Fit Catmull-Clark Surface and Bake Displacement", "generate_catmull_clark_fit_and_displacement_bake",
-     "Fits the Catmull-Clark limit surface of the current pure-quad layer (the control mesh, "
-     "e.g. from Fitmap Quad Simplification or any quad remesher) to a reference triangle layer "
+     "Fits the Catmull-Clark limit surface of the current quad layer (the control mesh, "
+     "e.g. from Fitmap Quad Simplification or any quad remesher; a quad-dominant layer with "
+     "triangles or n-gons is first subdivided once by Catmull-Clark into quads with the same "
+     "limit surface) to a reference triangle layer "
      "by sparse least squares on exact limit stencils (Panozzo et al. 2011, §3.5), then bakes "
      "the scalar displacement along the limit normal into a 16-bit PNG atlas (one tile per "
      "patch). New layers: the fitted control mesh (with per-wedge UVs and the displacement "

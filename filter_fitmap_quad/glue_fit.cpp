@@ -1,5 +1,5 @@
 // Glue for "Fit Catmull-Clark Surface and Bake Displacement" (paper §3.5, §4):
-// control layer (pure quads) + reference layer -> fitted control, limit, displaced layers,
+// control layer (quads; triangles and n-gons subdivided once) + reference layer -> fitted control, limit, displaced layers,
 // displacement/normal textures, quad OBJ and report.json.
 #include <algorithm>
 #include <cmath>
@@ -18,6 +18,7 @@
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fit/bake.h"
 #include "vcg_ext/fit/fit_io.h"
+#include "vcg_ext/subdiv/subdivide_once.h"
 
 namespace fitmapquad {
 
@@ -78,20 +79,50 @@ void InitFitParams(const MeshDocument& md, RichParameterList& par) {
 
 namespace {
 
+// A control layer with triangles or n-gons among its quads (a quad-dominant cage) as quads:
+// subdivided once by Catmull-Clark, which keeps its limit surface (subdivide_once.h), after its
+// coordinates are taken at the layer's precision and its coincident boundary vertices welded.
+// Fails with `quadErr` (ImportQuads' error) when the layer is no polygonal mesh or has no quad
+// or polygon at all (a triangle mesh is not a Catmull-Clark cage).
+bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& quadErr, vcgext::QuadData& quads) {
+  vcgext::PolyData poly;
+  if (!vcgext::ImportPolygons(control.cm, poly).empty()) return ctx.Fail(quadErr);
+  int sides[3] = {0, 0, 0};  // triangles, quads, more
+  for (const auto& f : poly.F) ++sides[std::min<size_t>(f.size(), 5) - 3];
+  if (sides[1] + sides[2] == 0)
+    return ctx.Fail(quadErr + "; a layer of triangles only is no Catmull-Clark control mesh (Fitmap Quad "
+                              "Simplification makes one from it)");
+  vcgext::ApplyInputCoordinatePrecision(poly.V);
+  if (int nw = vcgext::WeldCoincidentVertices(poly))
+    ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
+            " control vertices onto others of the same coordinates (polygons exported each on its own vertices)");
+  const std::string err = vcgext::SubdivideOnce(poly, quads);
+  if (!err.empty()) return ctx.Fail("the control layer cannot be subdivided into quads: " + err);
+  ctx.log("Fit Catmull-Clark Surface: the control layer has " + std::to_string(sides[0]) + " triangles and " +
+          std::to_string(sides[2]) + " polygons of more than four sides among its " + std::to_string(sides[1]) +
+          " quads: subdivided once by Catmull-Clark (the same limit surface) into " + std::to_string(quads.F.size()) +
+          " quads, which are the control mesh fitted");
+  return true;
+}
+
 // The control layer as quads, at the precision of MeshLab 2020.09's float layer, coincident
-// vertices welded, doublets merged; logs what was paired, welded or merged.
+// vertices welded, doublets merged; a layer with triangles or n-gons subdivided once
+// (SubdividedControl); logs what was paired, welded, subdivided or merged.
 bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& quads) {
   int ambiguous = 0;
-  std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
-  if (!err.empty()) return ctx.Fail(err);
-  // the control points as MeshLab 2020.09's float layer holds them (input_prep.h, CoordinatePrecision)
-  vcgext::ApplyInputCoordinatePrecision(quads.V);
-  if (ambiguous > 0)
-    ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
-            " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
-  if (int nw = vcgext::WeldCoincidentVertices(quads))
-    ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
-            " control vertices onto others of the same coordinates (quads exported each on its own vertices)");
+  const std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
+  if (!err.empty()) {
+    if (!SubdividedControl(ctx, control, err, quads)) return false;
+  } else {
+    // the control points as MeshLab 2020.09's float layer holds them (input_prep.h, CoordinatePrecision)
+    vcgext::ApplyInputCoordinatePrecision(quads.V);
+    if (ambiguous > 0)
+      ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
+              " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
+    if (int nw = vcgext::WeldCoincidentVertices(quads))
+      ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
+              " control vertices onto others of the same coordinates (quads exported each on its own vertices)");
+  }
   // Foreign quad meshes (e.g. MeshLab's triangle pairing) may contain doublets (interior
   // valence-2 vertices): merge them, as the simplification does (§3.3.3).
   if (int nd = vcgext::RemoveDoublets(quads))

@@ -127,3 +127,27 @@ TEST(WeldCoincidentVertices, LeavesCleanMeshesAndPiecesApartOnPurposeAlone) {
   EXPECT_EQ(two.F, two0.F);
   EXPECT_EQ(two.V.size(), 16u);
 }
+
+// The polygon version (before SubdivideOnce): a cube with one side as two triangles, every face
+// on its own vertices, welds back to the 8 corners.
+TEST(WeldCoincidentVertices, RestoresAnUnweldedPolygonalCube) {
+  const auto cube = Cube();
+  vcgext::PolyData p;
+  auto add = [&](std::vector<int> corners) {
+    std::vector<int> f;
+    for (int c : corners) {
+      f.push_back(int(p.V.size()));
+      p.V.push_back(cube.V[c]);
+    }
+    p.F.push_back(f);
+  };
+  add({cube.F[0][0], cube.F[0][1], cube.F[0][2]});
+  add({cube.F[0][0], cube.F[0][2], cube.F[0][3]});
+  for (size_t f = 1; f < cube.F.size(); ++f) add({cube.F[f][0], cube.F[f][1], cube.F[f][2], cube.F[f][3]});
+  ASSERT_EQ(p.V.size(), 26u);
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(p), 18);
+  EXPECT_EQ(p.V.size(), 8u);
+  for (size_t f = 1; f + 1 < p.F.size(); ++f)
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(p.V[p.F[f + 1][k]], cube.V[cube.F[f][k]]) << f << " " << k;
+  EXPECT_EQ(vcgext::WeldCoincidentVertices(p), 0);
+}

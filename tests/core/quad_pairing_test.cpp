@@ -83,3 +83,62 @@ TEST(QuadPairing, SharedDiagonalMisledByNormalsIsUntangledByTheFans) {
   EXPECT_EQ(ambiguous, 1);
   EXPECT_EQ(Canon(out.F), Canon(all));
 }
+
+namespace {
+
+// Polygon `loop` fanned from its first corner, as vcglib's PLY importer stores it: triangle i is
+// (c0, c(i+1), c(i+2)), its edge 0 faux unless i = 0, its edge 2 faux unless it is the last.
+void Fan(const std::vector<int>& loop, vcgext::FauxTriangles& t) {
+  const int n = int(loop.size());
+  for (int i = 0; i + 2 < n; ++i) {
+    t.tris.push_back({loop[0], loop[i + 1], loop[i + 2]});
+    t.faux.push_back({i > 0, false, i + 3 < n});
+  }
+}
+
+std::set<std::vector<int>> CanonLoops(const std::vector<std::vector<int>>& loops) {
+  return testsupport::CanonicalFaceSet(loops);
+}
+
+}  // namespace
+
+TEST(PolygonsFromFauxTriangles, FansOfEverySizeGiveTheirPolygonsBack) {
+  // A hexagon, a pentagon, a quad and a triangle sharing edges (a strip), each fanned.
+  const std::vector<std::vector<int>> polys = {{0, 1, 2, 3, 4, 5}, {1, 0, 6, 7, 8}, {2, 1, 8, 9}, {3, 2, 9}};
+  vcgext::FauxTriangles t;
+  for (const auto& p : polys) Fan(p, t);
+  ASSERT_EQ(t.tris.size(), 4u + 3u + 2u + 1u);
+  std::vector<std::vector<int>> back;
+  ASSERT_EQ(vcgext::PolygonsFromFauxTriangles(t, back), "");
+  ASSERT_EQ(back.size(), polys.size());
+  EXPECT_EQ(CanonLoops(back), CanonLoops(polys));
+  for (size_t i = 0; i < polys.size(); ++i) EXPECT_EQ(back[i].size(), polys[i].size());  // in layer order
+  // Another triangulation of the hexagon (a zig-zag, not a fan) gives the same polygon.
+  vcgext::FauxTriangles z;
+  z.tris = {{0, 1, 5}, {1, 2, 5}, {2, 4, 5}, {2, 3, 4}};
+  z.faux = {{false, true, false}, {false, true, true}, {true, false, true}, {false, false, true}};
+  back.clear();
+  ASSERT_EQ(vcgext::PolygonsFromFauxTriangles(z, back), "");
+  EXPECT_EQ(CanonLoops(back), CanonLoops({polys[0]}));
+}
+
+TEST(PolygonsFromFauxTriangles, FauxEdgesThatMakeNoPolygonAreErrors) {
+  std::vector<std::vector<int>> out;
+  // A faux edge without a partner.
+  vcgext::FauxTriangles a;
+  a.tris = {{0, 1, 2}};
+  a.faux = {{true, false, false}};
+  EXPECT_NE(vcgext::PolygonsFromFauxTriangles(a, out).find("no consistently oriented partner"), std::string::npos);
+  // A quad fanned round an inner vertex 4, every spoke faux: a loop of 4 edges for 4 triangles.
+  vcgext::FauxTriangles b;
+  for (int k = 0; k < 4; ++k) {
+    b.tris.push_back({k, (k + 1) % 4, 4});
+    b.faux.push_back({false, true, true});
+  }
+  EXPECT_NE(vcgext::PolygonsFromFauxTriangles(b, out).find("inner vertex"), std::string::npos);
+  // Three triangles on one faux edge, two running it the same way.
+  vcgext::FauxTriangles c;
+  c.tris = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  c.faux = {{true, false, false}, {true, false, false}, {true, false, false}};
+  EXPECT_NE(vcgext::PolygonsFromFauxTriangles(c, out).find("more than two triangles"), std::string::npos);
+}

@@ -1,10 +1,12 @@
 // Quad layers in MeshLab's faux-edge convention <-> QuadData.
+#include <fstream>
 #include <type_traits>
 
 #include <gtest/gtest.h>
 
 #include "test_support.h"
 #include "vcg_ext/core/vcg_bridge.h"
+#include "vcg_ext/io/mesh_io.h"
 
 namespace {
 
@@ -147,3 +149,31 @@ TEST(VcgBridge, ExportTrianglesWritesQuality) {
 }
 
 }  // namespace
+
+// A polygonal PLY (a pentagon, a quad, a triangle) through vcglib's own importer, which fans the
+// polygons with faux edges as MeshLab's does: ImportPolygons gives the polygons back;
+// ImportQuads refuses the layer.
+TEST(VcgBridge, ImportPolygonsReadsWhatThePlyImporterFanned) {
+  const std::string path = testsupport::ScratchDir() + "/polygons.ply";
+  std::ofstream(path) << "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+                         "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n"
+                         "0 0 0\n1 0 0\n2 1 0\n1 2 0\n0 1 0\n-1 1 0\n-1 0 0\n0 -1 0\n"
+                         "5 0 1 2 3 4\n4 0 4 5 6\n3 0 6 7\n";
+  vcgext::TMesh m;
+  ASSERT_EQ(vcgext::LoadMesh(path, m), "");
+  ASSERT_EQ(m.fn, 3 + 2 + 1);
+  vcgext::PolyData p;
+  ASSERT_EQ(vcgext::ImportPolygons(m, p), "");
+  ASSERT_EQ(p.V.size(), 8u);
+  const std::vector<std::vector<int>> expected = {{0, 1, 2, 3, 4}, {0, 4, 5, 6}, {0, 6, 7}};
+  EXPECT_EQ(CanonicalFaceSet(p.F), CanonicalFaceSet(expected));
+  vcgext::QuadData q;
+  EXPECT_NE(vcgext::ImportQuads(m, q).find("not pure-quad"), std::string::npos);
+  // A pure-quad layer reads as the same quads either way.
+  vcgext::TMesh g;
+  vcgext::ExportQuads(Grid(3), g);
+  ASSERT_EQ(vcgext::ImportPolygons(g, p), "");
+  std::vector<std::vector<int>> grid;
+  for (const auto& f : Grid(3).F) grid.push_back({f[0], f[1], f[2], f[3]});
+  EXPECT_EQ(CanonicalFaceSet(p.F), CanonicalFaceSet(grid));
+}

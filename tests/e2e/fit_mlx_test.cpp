@@ -235,6 +235,80 @@ TEST(MlxScripts, FitAndBakeRejectsNegativeCageSmoothing) {
   EXPECT_NE(r.output.find("control cage smoothing must be in [0, 10]"), std::string::npos) << r.output;
 }
 
+// CubeSphere(4) as a quad-dominant cage: on every side one quad split into two triangles and two
+// neighbouring quads merged into a hexagon, written as a polygonal PLY (MeshLab fans the polygons
+// with faux edges). Returns the number of polygon corners (one patch each once subdivided).
+int WriteMixedCage(const std::string& path) {
+  const auto q = CubeSphere(4);
+  std::vector<std::vector<int>> faces;
+  for (size_t f = 0; f < q.F.size(); ++f) {
+    const auto& c = q.F[f];
+    if (f % 16 == 0) {
+      faces.push_back({c[0], c[1], c[2]});
+      faces.push_back({c[0], c[2], c[3]});
+    } else if (f % 16 == 5) {  // with the next quad of its row (b, e, f, c): the hexagon a b e f c d
+      const auto& n = q.F[f + 1];
+      faces.push_back({c[0], c[1], n[1], n[2], c[2], c[3]});
+      ++f;
+    } else {
+      faces.push_back({c[0], c[1], c[2], c[3]});
+    }
+  }
+  std::ofstream out(path);
+  out << "ply\nformat ascii 1.0\nelement vertex " << q.V.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\nelement face " << faces.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  out.precision(17);
+  for (const auto& v : q.V) out << v.x() << " " << v.y() << " " << v.z() << "\n";
+  int corners = 0;
+  for (const auto& f : faces) {
+    out << f.size();
+    for (int c : f) out << " " << c;
+    out << "\n";
+    corners += int(f.size());
+  }
+  return corners;
+}
+
+// A quad-dominant cage (triangles and hexagons among its quads) is subdivided once and fitted:
+// one patch per polygon corner, as close to the sphere as the pure-quad cage's fit.
+TEST(MlxScripts, FitAndBakeSubdividesAQuadDominantCageOnce) {
+  const std::string dir = e2e::OutPath("fit_mixed");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::TMesh ref;
+  testsupport::ToVcg(testsupport::Icosphere(5), ref);
+  ASSERT_EQ(vcgext::SaveMesh(dir + "/sphere.off", ref), "");
+  const int corners = WriteMixedCage(dir + "/control.ply");
+  ASSERT_EQ(corners, 384);  // per side 13 quads, 2 triangles, 1 hexagon: 52 + 6 + 6
+  auto r = e2e::Meshlabserver("-i " + e2e::Q(dir + "/sphere.off") + " -i " + e2e::Q(dir + "/control.ply") +
+                              " -o " + e2e::Q(dir + "/out.ply") + " -s " + e2e::Q(e2e::Script("fit_and_bake.mlx")));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("the control layer has 12 triangles and 6 polygons of more than four sides among its 78 "
+                          "quads: subdivided once by Catmull-Clark"),
+            std::string::npos)
+      << r.output;
+  const std::string json = e2e::Slurp(dir + "/sphere_cc/report.json");
+  ASSERT_FALSE(json.empty()) << r.output;
+  EXPECT_EQ(JsonNumber(json, "patches"), corners);
+  EXPECT_EQ(JsonNumber(json, "degenerate_patches"), 0);
+  // The 96-quad cage fits to < 1 per mille (FitAndBakeFitsForeignQuadMeshToSphere); four times
+  // the patches do at least as well. Unsubdivided (no fit) the limit lies ~3 % inside.
+  EXPECT_LT(JsonNumber(json, "rms_limit_permille"), 1.0) << json;
+  EXPECT_LT(JsonNumber(json, "unprojectable_pct"), 0.5) << json;
+  // control.obj holds the fitted quads: 384 four-cornered faces.
+  std::ifstream obj(dir + "/sphere_cc/control.obj");
+  int quadFaces = 0, otherFaces = 0;
+  for (std::string line; std::getline(obj, line);)
+    if (line.rfind("f ", 0) == 0) {
+      std::istringstream ls(line.substr(2));
+      int n = 0;
+      for (std::string tok; ls >> tok;) ++n;
+      ++(n == 4 ? quadFaces : otherFaces);
+    }
+  EXPECT_EQ(quadFaces, corners);
+  EXPECT_EQ(otherFaces, 0);
+}
+
 TEST(MlxScripts, FitAndBakeRejectsTriangleControlLayer) {
   const std::string dir = e2e::OutPath("fit_bad");
   ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
@@ -246,6 +320,7 @@ TEST(MlxScripts, FitAndBakeRejectsTriangleControlLayer) {
                               " -o " + e2e::Q(dir + "/out.ply") + " -s " + e2e::Q(e2e::Script("fit_and_bake.mlx")));
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("not pure-quad"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a layer of triangles only is no Catmull-Clark control mesh"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -30,6 +30,13 @@ struct QuadData {
   std::vector<Quad> F;
 };
 
+/// A polygonal mesh as arrays: each face a counter-clockwise loop of at least three vertices
+/// (a control layer with triangles or n-gons among its quads, before SubdivideOnce).
+struct PolyData {
+  std::vector<Vec3> V;
+  std::vector<std::vector<int>> F;
+};
+
 /// For each quad, the corner s (0 or 1) that starts a "free" diagonal s–(s+2): one that is not a
 /// mesh edge and not the diagonal chosen for an earlier quad. Splitting every quad along its free
 /// diagonal gives a manifold triangulation whose faux-edge pairing is unique (two quads may have

@@ -18,10 +18,11 @@ bool RotateTo(Quad& f, int v) {
 }
 
 // The vertices of V that F uses, in order of first use; F renumbered to them.
-std::vector<Vec3> CompactVertices(std::vector<Quad>& F, const std::vector<Vec3>& V) {
+template <class Face>
+std::vector<Vec3> CompactVertices(std::vector<Face>& F, const std::vector<Vec3>& V) {
   std::vector<int> remap(V.size(), -1);
   std::vector<Vec3> out;
-  for (Quad& f : F)
+  for (Face& f : F)
     for (int& c : f) {
       if (remap[c] < 0) {
         remap[c] = int(out.size());
@@ -79,33 +80,37 @@ int RemoveDoublets(QuadData& q) {
 }
 
 namespace {
-// Whether every quad has four distinct corners and every edge is used by at most two quads,
-// running it in opposite directions.
-bool EdgeManifoldAndOriented(const std::vector<Quad>& F) {
+// Whether every face has distinct corners and every edge is used by at most two faces, running
+// it in opposite directions.
+template <class Face>
+bool EdgeManifoldAndOriented(const std::vector<Face>& F) {
   std::map<std::pair<int, int>, int> directed;
-  for (const Quad& f : F)
-    for (int k = 0; k < 4; ++k) {
+  for (const Face& f : F) {
+    const int n = int(f.size());
+    for (int k = 0; k < n; ++k) {
       for (int j = 0; j < k; ++j)
         if (f[j] == f[k]) return false;
-      if (++directed[{f[k], f[(k + 1) % 4]}] > 1) return false;  // twice the same way (or 3+ quads)
+      if (++directed[{f[k], f[(k + 1) % n]}] > 1) return false;  // twice the same way (or 3+ faces)
     }
+  }
   return true;
 }
-}  // namespace
 
-int WeldCoincidentVertices(QuadData& q) {
-  // Vertices on an edge of one quad: only they are welded (an interior vertex has its fan).
+// WeldCoincidentVertices on any faces (quads, polygons).
+template <class Face>
+int WeldBoundaryVertices(std::vector<Vec3>& V, std::vector<Face>& faces) {
+  // Vertices on an edge of one face: only they are welded (an interior vertex has its fan).
   std::map<std::pair<int, int>, int> edgeUse;
-  for (const Quad& f : q.F)
-    for (int k = 0; k < 4; ++k) ++edgeUse[std::minmax(f[k], f[(k + 1) % 4])];
-  std::vector<char> boundary(q.V.size(), 0);
+  for (const Face& f : faces)
+    for (size_t k = 0; k < f.size(); ++k) ++edgeUse[std::minmax(f[k], f[(k + 1) % f.size()])];
+  std::vector<char> boundary(V.size(), 0);
   for (const auto& [e, n] : edgeUse)
     if (n == 1) boundary[e.first] = boundary[e.second] = 1;
-  auto key = [&](int v) { return std::make_tuple(q.V[v].x(), q.V[v].y(), q.V[v].z()); };
+  auto key = [&](int v) { return std::make_tuple(V[v].x(), V[v].y(), V[v].z()); };
   std::map<std::tuple<double, double, double>, int> first;
-  std::vector<int> into(q.V.size());
+  std::vector<int> into(V.size());
   int merged = 0;
-  for (int v = 0; v < int(q.V.size()); ++v) {
+  for (int v = 0; v < int(V.size()); ++v) {
     into[v] = v;
     if (!boundary[v]) continue;
     auto [it, isNew] = first.emplace(key(v), v);
@@ -113,13 +118,18 @@ int WeldCoincidentVertices(QuadData& q) {
     if (!isNew) ++merged;
   }
   if (merged == 0) return 0;
-  std::vector<Quad> F = q.F;
-  for (Quad& f : F)
+  std::vector<Face> F = faces;
+  for (Face& f : F)
     for (int& c : f) c = into[c];
   if (!EdgeManifoldAndOriented(F)) return 0;
-  q.V = CompactVertices(F, q.V);
-  q.F.swap(F);
+  V = CompactVertices(F, V);
+  faces.swap(F);
   return merged;
 }
+}  // namespace
+
+int WeldCoincidentVertices(QuadData& q) { return WeldBoundaryVertices(q.V, q.F); }
+
+int WeldCoincidentVertices(PolyData& p) { return WeldBoundaryVertices(p.V, p.F); }
 
 }  // namespace vcgext

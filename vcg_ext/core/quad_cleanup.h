@@ -22,5 +22,8 @@ int RemoveDoublets(QuadData& q);
 /// running it the same way (sheets apart on purpose), `q` is left as it is. Returns the number
 /// of vertices merged into another (0 when nothing changed). Cost: O(V log V + F log F).
 int WeldCoincidentVertices(QuadData& q);
+/// The same on a polygonal control mesh (before SubdivideOnce): an edge of one face is a
+/// boundary edge.
+int WeldCoincidentVertices(PolyData& p);
 
 }  // namespace vcgext

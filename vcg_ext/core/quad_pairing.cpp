@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "vcg_ext/core/input_prep.h"
+#include "vcg_ext/core/union_find.h"
 
 namespace vcgext {
 
@@ -120,6 +121,77 @@ std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousRes
   if (unmatched > 0)
     return "the control layer is not pure-quad: " + std::to_string(unmatched) +
            " faux edges have no consistently oriented partner triangle";
+  return "";
+}
+
+namespace {
+
+// The triangles of each polygon of `t` (joined across faux edges), in the order of their first
+// triangle; "" or what is wrong with the faux edges.
+std::string FauxGroups(const FauxTriangles& t, std::vector<std::vector<int>>& groups) {
+  const int n = int(t.tris.size());
+  std::map<std::pair<int, int>, int> fauxAt;  // directed faux edge -> its triangle
+  int shared = 0, unpaired = 0;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (t.faux[i][k]) shared += !fauxAt.emplace(std::make_pair(t.tris[i][k], t.tris[i][(k + 1) % 3]), i).second;
+  UnionFind sets(n);
+  for (const auto& [e, i] : fauxAt) {
+    const auto partner = fauxAt.find({e.second, e.first});
+    if (partner == fauxAt.end()) ++unpaired;
+    else sets.Unite(i, partner->second);
+  }
+  if (shared > 0)
+    return std::to_string(shared) + " faux edges are shared by more than two triangles running them the same way";
+  if (unpaired > 0) return std::to_string(unpaired) + " faux edges have no consistently oriented partner triangle";
+  std::vector<int> slot(n, -1);
+  for (int i = 0; i < n; ++i) {
+    int& g = slot[sets.Find(i)];
+    if (g < 0) {
+      g = int(groups.size());
+      groups.emplace_back();
+    }
+    groups[g].push_back(i);
+  }
+  return "";
+}
+
+// The boundary loop of one group of triangles (its non-faux edges chained), or empty when they
+// are not one loop through n distinct corners for n - 2 triangles.
+std::vector<int> PolygonLoop(const FauxTriangles& t, const std::vector<int>& group) {
+  std::map<int, int> next;
+  int first = -1;
+  for (int i : group)
+    for (int k = 0; k < 3; ++k) {
+      if (t.faux[i][k]) continue;
+      const int a = t.tris[i][k], b = t.tris[i][(k + 1) % 3];
+      if (!next.emplace(a, b).second) return {};  // a corner twice: not a simple loop
+      if (first < 0) first = a;
+    }
+  if (next.size() != group.size() + 2) return {};
+  std::vector<int> loop{first};
+  for (int v = next[first]; v != first; v = next[v]) {
+    if (loop.size() == next.size() || next.count(v) == 0) return {};
+    loop.push_back(v);
+  }
+  return loop.size() == next.size() ? loop : std::vector<int>{};
+}
+
+}  // namespace
+
+std::string PolygonsFromFauxTriangles(const FauxTriangles& t, std::vector<std::vector<int>>& polys) {
+  std::vector<std::vector<int>> groups;
+  std::string err = FauxGroups(t, groups);
+  if (!err.empty()) return err;
+  int bad = 0;
+  for (const auto& g : groups) {
+    std::vector<int> loop = PolygonLoop(t, g);
+    if (loop.empty()) ++bad;
+    else polys.push_back(std::move(loop));
+  }
+  if (bad > 0)
+    return std::to_string(bad) +
+           " polygons are not one loop of edges round their corners (a hole or an inner vertex among faux edges)";
   return "";
 }
 

@@ -24,6 +24,21 @@ struct FauxHalves {
 /// (optional) is set to the number of such diagonals. Returns "" or how many halves found no partner.
 std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousResolved);
 
+/// The triangles of a MeshLab polygonal layer, each with its faux-edge flags: a polygon is the
+/// triangles joined across faux edges (a quad two, an n-gon n - 2), a triangle has none.
+/// Triangle i's edge k runs from tris[i][k] to tris[i][(k + 1) % 3] and is faux when faux[i][k].
+struct FauxTriangles {
+  std::vector<std::array<int, 3>> tris;
+  std::vector<std::array<bool, 3>> faux;
+};
+
+/// The polygons of `t` (counter-clockwise vertex loops, in the order of their first triangle;
+/// each loop starts at the first corner of that triangle that starts a non-faux edge) appended to
+/// `polys`. Returns "" or what is wrong: a faux edge with no partner running it the opposite way or
+/// shared by more than two triangles, or a group whose non-faux edges are not one loop round all
+/// its corners (a polygon with a hole or an inner vertex: n - 2 triangles for n sides).
+std::string PolygonsFromFauxTriangles(const FauxTriangles& t, std::vector<std::vector<int>>& polys);
+
 /// Cage q as the next filter reads it back from a MeshLab layer (ExportQuads, then ImportQuads
 /// and ApplyInputCoordinatePrecision, as the fit filter reads its control layer): coordinates
 /// rounded to the layer's scalar (float in MeshLab 2020.09; double in the 2025 build that PyMeshLab

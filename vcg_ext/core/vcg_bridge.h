@@ -16,6 +16,28 @@
 
 namespace vcgext {
 
+namespace bridge_detail {
+// The live vertices of `m` into V; remap (vertex index of `m` -> index in V, -1 for deleted).
+// "" or what is wrong (empty layer, NaN coordinates).
+template <class MeshType>
+std::string ImportLayerVertices(const MeshType& m, std::vector<Vec3>& V, std::vector<int>& remap) {
+  V.clear();
+  remap.assign(m.vert.size(), -1);
+  int nonFinite = 0;
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    if (m.vert[i].IsD()) continue;
+    const auto& p = m.vert[i].cP();
+    Vec3 q{double(p[0]), double(p[1]), double(p[2])};
+    if (!q.allFinite()) ++nonFinite;
+    remap[i] = int(V.size());
+    V.push_back(q);
+  }
+  if (V.empty()) return "the control layer is empty";
+  if (nonFinite) return std::to_string(nonFinite) + " control vertices have NaN or infinite coordinates";
+  return "";
+}
+}  // namespace bridge_detail
+
 /// Reads a pure-quad vcg layer (triangle pairs with one faux edge each) into `out`.
 /// Returns an empty string, or what is wrong: empty layer, NaN coordinates, a triangle with no
 /// faux edge (not pure quads: how many), a polygon with more than four sides, a faux edge with
@@ -27,20 +49,10 @@ namespace vcgext {
 template <class MeshType>
 std::string ImportQuads(const MeshType& m, QuadData& out, int* ambiguousResolved = nullptr) {
   if (ambiguousResolved) *ambiguousResolved = 0;
-  out.V.clear();
   out.F.clear();
-  std::vector<int> remap(m.vert.size(), -1);
-  int nonFinite = 0;
-  for (size_t i = 0; i < m.vert.size(); ++i) {
-    if (m.vert[i].IsD()) continue;
-    const auto& p = m.vert[i].cP();
-    Vec3 q{double(p[0]), double(p[1]), double(p[2])};
-    if (!q.allFinite()) ++nonFinite;
-    remap[i] = int(out.V.size());
-    out.V.push_back(q);
-  }
-  if (out.V.empty()) return "the control layer is empty";
-  if (nonFinite) return std::to_string(nonFinite) + " control vertices have NaN or infinite coordinates";
+  std::vector<int> remap;
+  std::string err = bridge_detail::ImportLayerVertices(m, out.V, remap);
+  if (!err.empty()) return err;
   FauxHalves halves;
   int triangles = 0, polygons = 0;
   for (const auto& f : m.face) {
@@ -63,6 +75,28 @@ std::string ImportQuads(const MeshType& m, QuadData& out, int* ambiguousResolved
     return "the control layer is not pure-quad: " + std::to_string(polygons) +
            " faces belong to polygons with more than four sides";
   return PairFauxHalves(halves, out, ambiguousResolved);
+}
+
+/// Reads a polygonal vcg layer (MeshLab's convention: the triangles of one polygon joined by faux
+/// edges) into `out`: triangles, quads and n-gons (PolygonsFromFauxTriangles). Returns "" or what
+/// is wrong (as ImportQuads, or faux edges that do not make polygons). Deleted elements are
+/// skipped; unreferenced vertices are kept. Unlike ImportQuads, a faux edge shared by several
+/// triangle pairs is refused rather than resolved.
+template <class MeshType>
+std::string ImportPolygons(const MeshType& m, PolyData& out) {
+  out.F.clear();
+  std::vector<int> remap;
+  std::string err = bridge_detail::ImportLayerVertices(m, out.V, remap);
+  if (!err.empty()) return err;
+  FauxTriangles t;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    t.tris.push_back({remap[f.cV(0) - &m.vert[0]], remap[f.cV(1) - &m.vert[0]], remap[f.cV(2) - &m.vert[0]]});
+    t.faux.push_back({f.IsF(0), f.IsF(1), f.IsF(2)});
+  }
+  if (t.tris.empty()) return "the control layer has no faces";
+  err = PolygonsFromFauxTriangles(t, out.F);
+  return err.empty() ? err : "the control layer's polygons cannot be read: " + err;
 }
 
 /// Appends nothing, replaces `m`'s content with the triangles of `d` and, if given, a

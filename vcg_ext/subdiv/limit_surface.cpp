@@ -1,4 +1,5 @@
 #include "vcg_ext/subdiv/limit_surface.h"
+#include "vcg_ext/subdiv/osd_refiner.h"
 #include "vcg_ext/core/union_find.h"
 
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
@@ -277,11 +278,30 @@ std::string CheckMaxValence(const std::vector<int>& valence, int maxValence, boo
          "Remeshing" + std::string(loop ? ")" : ", then pair the triangles into quads)");
 }
 
+// A face of more sides than maxValence (> 0): Catmull-Clark's patch of an n-gon is that of a
+// vertex of n edges (its face point after the first step), as costly to build (a 3 000-gon: 8
+// minutes).
+std::string CheckMaxFaceSize(const std::vector<int>& sizes, int maxValence) {
+  if (maxValence <= 0 || sizes.empty()) return {};
+  const auto it = std::max_element(sizes.begin(), sizes.end());
+  if (*it <= maxValence) return {};
+  return "face " + std::to_string(it - sizes.begin()) + " has " + std::to_string(*it) + " sides (at most " +
+         std::to_string(maxValence) + " are supported: its limit patch is that of a vertex of as many edges); split it first";
+}
+
 }  // namespace
+
+std::string LimitSurface::CheckTopology(int nV, const std::vector<int>& sizes, const std::vector<int>& verts,
+                                        const LimitSurfaceOptions& opt) {
+  LimitSurface s;
+  s.opt_ = opt;
+  return s.Validate(nV, sizes, verts);
+}
 
 std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const std::vector<int>& verts) {
   const bool loop = opt_.scheme == SubdivScheme::Loop;
   std::string err = CheckFaceSizes(nV, sizes, verts, loop);
+  if (err.empty()) err = CheckMaxFaceSize(sizes, opt_.maxValence);
   if (err.empty()) err = CheckFaceCorners(nV, sizes, verts);
   if (!err.empty()) return err;
   EdgeInfoTable edges;
@@ -297,7 +317,7 @@ std::string LimitSurface::Validate(int nV, const std::vector<int>& sizes, const 
   return CheckMaxValence(valence_, opt_.maxValence, loop);
 }
 
-namespace {
+namespace subdiv_detail {
 
 // OpenSubdiv's topology refiner of the control mesh, with the options' scheme, boundary rule and
 // infinitely sharp crease edges and corners; null when OpenSubdiv rejects the topology.
@@ -331,7 +351,7 @@ std::unique_ptr<osd::Far::TopologyRefiner> CreateRefiner(int nV, const std::vect
   return std::unique_ptr<osd::Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(type, sdc)));
 }
 
-}  // namespace
+}  // namespace subdiv_detail
 
 std::string LimitSurface::Impl::InitSurfaces(const osd::Far::TopologyRefiner& refiner, const LimitSurfaceOptions& opt) {
   osd::Bfr::SurfaceFactory::Options fopt;
@@ -379,7 +399,7 @@ void LimitSurface::Build(int nV, const std::vector<int>& sizes, const std::vecto
       if (vertexCorner_[v].first < 0) vertexCorner_[v] = {int(f), k};
     }
 
-  const std::unique_ptr<osd::Far::TopologyRefiner> refiner = CreateRefiner(nV, sizes, verts, opt_);
+  const std::unique_ptr<osd::Far::TopologyRefiner> refiner = subdiv_detail::CreateRefiner(nV, sizes, verts, opt_);
   if (!refiner) {
     error_ = "OpenSubdiv rejected the control mesh topology";
     return;

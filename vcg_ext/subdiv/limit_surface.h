@@ -49,10 +49,11 @@ struct LimitSurfaceOptions {
   bool sharpBoundaryCorners = false;             ///< VTX_BOUNDARY_EDGE_AND_CORNER instead of EDGE_ONLY
   int approxLevelSmooth = 4;  ///< Bfr refinement depth around smooth extraordinary vertices (1..10)
   int approxLevelSharp = 6;   ///< Bfr refinement depth around sharp irregular features (1..10)
-  /// Refuse a vertex of more edges than this (0: no limit). Each face at a vertex of valence n
-  /// has a patch of about 2n + 8 control points, so the surface takes about 140 n² bytes round it
-  /// (measured: valence 2 048, 0.58 GB and 1.2 s to build; 8 192 would take ~9 GB). Same limit as
-  /// the Loop filters' LoopSurfaceParams::maxValence.
+  /// Refuse a vertex of more edges, or a face of more sides, than this (0: no limit). Each face
+  /// at a vertex of valence n has a patch of about 2n + 8 control points, so the surface takes
+  /// about 140 n² bytes round it (measured: valence 2 048, 0.58 GB and 1.2 s to build; 8 192
+  /// would take ~9 GB); an n-gon's patch is that of its face point, of valence n (a 3 000-gon
+  /// took 8 minutes to build). Same limit as the Loop filters' LoopSurfaceParams::maxValence.
   int maxValence = 2048;
 };
 
@@ -72,10 +73,14 @@ class LimitSurface {
   /// (>= 3; exactly 3 for Loop), no repeated vertex in a face, every edge used by at most two
   /// faces with opposite orientations (manifold, consistently oriented), crease edges exist,
   /// corner indices in range. On failure `Ok()` is false and `Error()` says what is wrong (which
-  /// element, how many), or a vertex above `opt.maxValence`. Cost: O(F) plus one Bfr::Surface per face (irregular faces share their
+  /// element, how many), or a vertex / face above `opt.maxValence`. Cost: O(F) plus one Bfr::Surface per face (irregular faces share their
   /// patch through the factory cache).
   LimitSurface(int numVertices, const std::vector<int>& faceSizes, const std::vector<int>& faceVerts,
                const LimitSurfaceOptions& opt = {});
+  /// The constructor's checks without building the surface: "" or the error `Error()` would
+  /// give. Cost: O(F log F).
+  static std::string CheckTopology(int numVertices, const std::vector<int>& faceSizes,
+                                   const std::vector<int>& faceVerts, const LimitSurfaceOptions& opt = {});
   /// Catmull-Clark (by default) limit of a pure-quad mesh; `opt.scheme` is forced to CatmullClark.
   static LimitSurface FromQuads(const QuadData& q, LimitSurfaceOptions opt = {});
   /// Loop limit of a triangle mesh; `opt.scheme` is forced to Loop.
