@@ -81,13 +81,14 @@ namespace {
 
 // A control layer with triangles or n-gons among its quads (a quad-dominant cage) as quads:
 // subdivided once by Catmull-Clark, which keeps its limit surface (subdivide_once.h), after its
-// coordinates are taken at the layer's precision and its coincident boundary vertices welded.
+// coordinates are taken at the layer's precision, its coincident boundary vertices welded and its
+// doublets merged.
 // Fails with `quadErr` (ImportQuads' error) when the layer is no polygonal mesh or has no quad
 // or polygon at all (a triangle mesh is not a Catmull-Clark cage).
 bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& quadErr, vcgext::QuadData& quads) {
   vcgext::PolyData poly;
   if (!vcgext::ImportPolygons(control.cm, poly).empty()) return ctx.Fail(quadErr);
-  int sides[3] = {0, 0, 0};  // triangles, quads, more
+  int sides[3] = {0, 0, 0};  // triangles, quads, more (as the layer has them)
   for (const auto& f : poly.F) ++sides[std::min<size_t>(f.size(), 5) - 3];
   if (sides[1] + sides[2] == 0)
     return ctx.Fail(quadErr + "; a layer of triangles only is no Catmull-Clark control mesh (Fitmap Quad "
@@ -96,6 +97,11 @@ bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& 
   if (int nw = vcgext::WeldCoincidentVertices(poly))
     ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
             " control vertices onto others of the same coordinates (polygons exported each on its own vertices)");
+  // A quad-dominant remesher leaves interior valence-2 vertices between two polygons, which
+  // Catmull-Clark evaluation refuses: merged first, as for quads (§3.3.3).
+  if (int nd = vcgext::RemoveDoublets(poly))
+    ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) +
+            " doublets (interior valence-2 vertices) of the control mesh's polygons");
   const std::string err = vcgext::SubdivideOnce(poly, quads);
   if (!err.empty()) return ctx.Fail("the control layer cannot be subdivided into quads: " + err);
   ctx.log("Fit Catmull-Clark Surface: the control layer has " + std::to_string(sides[0]) + " triangles and " +

@@ -1,9 +1,11 @@
 // Doublet removal on foreign quad meshes (e.g. MeshLab's triangle pairing produces doublets).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 
+#include "test_support.h"
 #include "vcg_ext/core/quad_cleanup.h"
 
 namespace {
@@ -150,4 +152,30 @@ TEST(WeldCoincidentVertices, RestoresAnUnweldedPolygonalCube) {
   for (size_t f = 1; f + 1 < p.F.size(); ++f)
     for (int k = 0; k < 4; ++k) EXPECT_EQ(p.V[p.F[f + 1][k]], cube.V[cube.F[f][k]]) << f << " " << k;
   EXPECT_EQ(vcgext::WeldCoincidentVertices(p), 0);
+}
+
+// The polygon version: the cube's top (4, 5, 7, 6) cut along 4 -> v -> 5 into the triangle
+// (4, 5, v) and the pentagon (4, v, 5, 7, 6), as a quad-dominant remesher leaves it: merged back.
+TEST(RemoveDoublets, MergesATriangleAndAPentagonRoundAPolygonDoublet) {
+  const auto cube = Cube();
+  vcgext::PolyData p;
+  p.V = cube.V;
+  const int v = int(p.V.size());
+  p.V.push_back(vcgext::Vec3(0.5, 0.3, 1));
+  for (const auto& f : cube.F)
+    if (f[0] != 4) p.F.push_back({f[0], f[1], f[2], f[3]});
+  p.F.push_back({4, 5, v});
+  p.F.push_back({4, v, 5, 7, 6});
+  EXPECT_EQ(vcgext::RemoveDoublets(p), 1);
+  ASSERT_EQ(p.F.size(), 6u);
+  EXPECT_EQ(p.V.size(), 8u);
+  std::vector<std::vector<int>> byCoordinates, expected;  // the merged face, by its corners' positions
+  for (const auto& f : cube.F) expected.push_back({f[0], f[1], f[2], f[3]});
+  for (const auto& f : p.F) {
+    std::vector<int> c;
+    for (int k : f) c.push_back(int(std::find(cube.V.begin(), cube.V.end(), p.V[k]) - cube.V.begin()));
+    byCoordinates.push_back(c);
+  }
+  EXPECT_EQ(testsupport::CanonicalFaceSet(byCoordinates), testsupport::CanonicalFaceSet(expected));
+  EXPECT_EQ(vcgext::RemoveDoublets(p), 0);
 }

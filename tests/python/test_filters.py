@@ -205,7 +205,7 @@ def test_fit_subdivides_a_quad_dominant_cage_once(tmp_path):
     # a cube cage with one side as two triangles, read from a polygonal PLY (the importer fans
     # polygons with faux edges): subdivided once by Catmull-Clark, one patch per polygon corner
     # (5 quads x 4 + 2 triangles x 3), fitted; the control layer is left as it was
-    corners = [(x, y, z) for z in (-0.6, 0.6) for y in (-0.6, 0.6) for x in (-0.6, 0.6)]
+    corners = [(x, y, z) for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)]
     faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7), (1, 7, 5)]
     ply = tmp_path / "cage.ply"
     ply.write_text("ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
@@ -218,9 +218,9 @@ def test_fit_subdivides_a_quad_dominant_cage_once(tmp_path):
     before = layers_snapshot(ms)
     r = ms.generate_catmull_clark_fit_and_displacement_bake(referencemesh=0, outputdir=str(tmp_path / "out"))
     assert r["patches"] == 26, r
-    # 26 patches of a cube-like cage fit the unit sphere to a few per mille of its diagonal; the
-    # unfitted limit of a cube of half-size 0.6 lies ~10 % of the radius off
-    assert r["rms_limit_permille"] < 5, r
+    # 26 patches of a cube-like cage fit the unit sphere to 0.2 per mille of its diagonal; the
+    # unfitted limit of the cube lies ~10 % of the radius off
+    assert r["rms_limit_permille"] < 1, r
     assert_layers_equal(before, layers_snapshot(ms)[:2])
 
 

@@ -3,15 +3,17 @@
 #include <algorithm>
 #include <map>
 #include <tuple>
+#include <type_traits>
 
 namespace vcgext {
 
 namespace {
-// Rotates quad f so that corner `v` comes first; false if v is not a corner.
-bool RotateTo(Quad& f, int v) {
-  for (int k = 0; k < 4; ++k)
+// Rotates face f so that corner `v` comes first; false if v is not a corner.
+template <class Face>
+bool RotateTo(Face& f, int v) {
+  for (size_t k = 0; k < f.size(); ++k)
     if (f[k] == v) {
-      std::rotate(f.begin(), f.begin() + k, f.end());
+      std::rotate(f.begin(), f.begin() + long(k), f.end());
       return true;
     }
   return false;
@@ -32,37 +34,51 @@ std::vector<Vec3> CompactVertices(std::vector<Face>& F, const std::vector<Vec3>&
     }
   return out;
 }
-}  // namespace
 
-int RemoveDoublets(QuadData& q) {
+// The face of corners c: two quads less their doublet make a quad.
+template <class Face>
+Face FaceOf(const std::vector<int>& c) {
+  if constexpr (std::is_same_v<Face, Quad>) return {c[0], c[1], c[2], c[3]};
+  else return c;
+}
+
+// RemoveDoublets on any faces (quads, polygons): faces (v, a, P.., b) and (v, b, Q.., a) become
+// (a, P.., b, Q..).
+template <class Face>
+int RemoveDoubletsOf(std::vector<Vec3>& V, std::vector<Face>& faces) {
   int removed = 0;
-  std::vector<char> dead(q.F.size(), 0);
+  std::vector<char> dead(faces.size(), 0);
   for (bool changed = true; changed;) {
     changed = false;
-    const int nV = int(q.V.size());
-    std::vector<std::vector<int>> faces(nV);
+    const int nV = int(V.size());
+    std::vector<std::vector<int>> facesAt(nV);
     std::map<std::pair<int, int>, int> edgeCount;
-    for (size_t f = 0; f < q.F.size(); ++f) {
+    for (size_t f = 0; f < faces.size(); ++f) {
       if (dead[f]) continue;
-      for (int k = 0; k < 4; ++k) {
-        faces[q.F[f][k]].push_back(int(f));
-        ++edgeCount[std::minmax(q.F[f][k], q.F[f][(k + 1) % 4])];
+      const size_t n = faces[f].size();
+      for (size_t k = 0; k < n; ++k) {
+        facesAt[faces[f][k]].push_back(int(f));
+        ++edgeCount[std::minmax(faces[f][k], faces[f][(k + 1) % n])];
       }
     }
-    std::vector<char> touched(q.F.size(), 0);
+    std::vector<char> touched(faces.size(), 0);
     for (int v = 0; v < nV; ++v) {
-      if (faces[v].size() != 2) continue;
-      int f1 = faces[v][0], f2 = faces[v][1];
+      if (facesAt[v].size() != 2) continue;
+      int f1 = facesAt[v][0], f2 = facesAt[v][1];
       if (touched[f1] || touched[f2]) continue;
-      Quad a1 = q.F[f1], a2 = q.F[f2];
+      Face a1 = faces[f1], a2 = faces[f2];
       RotateTo(a1, v);
       RotateTo(a2, v);
-      // a1 = (v, a, x, b), a2 must be (v, b, y, a); both edges interior (shared by the two).
-      int a = a1[1], x = a1[2], b = a1[3];
-      if (a2[1] != b || a2[3] != a) continue;
-      int y = a2[2];
-      if (x == y || edgeCount[std::minmax(v, a)] != 2 || edgeCount[std::minmax(v, b)] != 2) continue;
-      q.F[f1] = {a, x, b, y};
+      // a1 = (v, a, P.., b), a2 must be (v, b, Q.., a); both edges interior (shared by the two).
+      const int a = a1[1], b = a1.back();
+      if (a2[1] != b || a2.back() != a) continue;
+      if (edgeCount[std::minmax(v, a)] != 2 || edgeCount[std::minmax(v, b)] != 2) continue;
+      std::vector<int> merged(a1.begin() + 1, a1.end());  // a, P.., b
+      merged.insert(merged.end(), a2.begin() + 2, a2.end() - 1);  // Q..
+      std::vector<int> sorted = merged;
+      std::sort(sorted.begin(), sorted.end());
+      if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;  // degenerate
+      faces[f1] = FaceOf<Face>(merged);
       dead[f2] = 1;
       touched[f1] = touched[f2] = 1;
       ++removed;
@@ -70,14 +86,19 @@ int RemoveDoublets(QuadData& q) {
     }
   }
   // Compact faces, then vertices.
-  std::vector<Quad> F;
-  for (size_t f = 0; f < q.F.size(); ++f)
-    if (!dead[f]) F.push_back(q.F[f]);
+  std::vector<Face> F;
+  for (size_t f = 0; f < faces.size(); ++f)
+    if (!dead[f]) F.push_back(faces[f]);
   if (removed == 0) return 0;  // keep vertex order (and unreferenced vertices) when nothing changed
-  q.V = CompactVertices(F, q.V);
-  q.F.swap(F);
+  V = CompactVertices(F, V);
+  faces.swap(F);
   return removed;
 }
+}  // namespace
+
+int RemoveDoublets(QuadData& q) { return RemoveDoubletsOf(q.V, q.F); }
+
+int RemoveDoublets(PolyData& p) { return RemoveDoubletsOf(p.V, p.F); }
 
 namespace {
 // Whether every face has distinct corners and every edge is used by at most two faces, running

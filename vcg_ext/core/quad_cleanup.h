@@ -11,6 +11,11 @@ namespace vcgext {
 /// are dropped (indices compacted). Configurations whose merge would be degenerate (x == y)
 /// are left alone. Returns the number of doublets removed. Cost: O(F) per pass, few passes.
 int RemoveDoublets(QuadData& q);
+/// The same on a polygonal control mesh (before SubdivideOnce): faces (v, a, P.., b) and
+/// (v, b, Q.., a) round an interior vertex v of valence 2 become (a, P.., b, Q..), unless that
+/// repeats a corner. A quad-dominant remesher (MeshLab's "Turn into Quad-Dominant mesh") leaves
+/// such vertices, which Catmull-Clark evaluation refuses.
+int RemoveDoublets(PolyData& p);
 
 /// Welds the boundary vertices of equal coordinates (bitwise) of a quad control mesh exported
 /// with every quad on its own vertices (an unwelded OBJ/STL-style export): without it each quad
