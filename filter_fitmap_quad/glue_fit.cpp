@@ -83,11 +83,12 @@ namespace {
 // subdivided once by Catmull-Clark, which keeps its limit surface (subdivide_once.h), after its
 // coordinates are taken at the layer's precision, its coincident boundary vertices welded and its
 // doublets merged.
-// Fails with `quadErr` (ImportQuads' error) when the layer is no polygonal mesh or has no quad
-// or polygon at all (a triangle mesh is not a Catmull-Clark cage).
+// Fails with `quadErr` (ImportQuads' error) and why the polygons cannot be read when the layer is
+// no polygonal mesh, or has no quad or polygon at all (a triangle mesh is not a Catmull-Clark cage).
 bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& quadErr, vcgext::QuadData& quads) {
   vcgext::PolyData poly;
-  if (!vcgext::ImportPolygons(control.cm, poly).empty()) return ctx.Fail(quadErr);
+  const std::string polyErr = vcgext::ImportPolygons(control.cm, poly);
+  if (!polyErr.empty()) return ctx.Fail(quadErr + "; as polygons: " + polyErr);
   int sides[3] = {0, 0, 0};  // triangles, quads, more (as the layer has them)
   for (const auto& f : poly.F) ++sides[std::min<size_t>(f.size(), 5) - 3];
   if (sides[1] + sides[2] == 0)

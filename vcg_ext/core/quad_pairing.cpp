@@ -142,7 +142,9 @@ std::string FauxGroups(const FauxTriangles& t, std::vector<std::vector<int>>& gr
     else sets.Unite(i, partner->second);
   }
   if (shared > 0)
-    return std::to_string(shared) + " faux edges are shared by more than two triangles running them the same way";
+    return std::to_string(shared) +
+           " faux edges are run the same way by two triangles (faces of inconsistent orientation: Filters > "
+           "Normals, Curvatures and Orientation > Re-Orient all faces coherently) or shared by more than two";
   if (unpaired > 0) return std::to_string(unpaired) + " faux edges have no consistently oriented partner triangle";
   std::vector<int> slot(n, -1);
   for (int i = 0; i < n; ++i) {

@@ -34,8 +34,8 @@ struct FauxTriangles {
 
 /// The polygons of `t` (counter-clockwise vertex loops, in the order of their first triangle;
 /// each loop starts at the first corner of that triangle that starts a non-faux edge) appended to
-/// `polys`. Returns "" or what is wrong: a faux edge with no partner running it the opposite way or
-/// shared by more than two triangles, or a group whose non-faux edges are not one loop round all
+/// `polys`. Returns "" or what is wrong: a faux edge with no partner running it the opposite way, run
+/// the same way by two triangles (inconsistent orientation) or shared by more than two, or a group whose non-faux edges are not one loop round all
 /// its corners (a polygon with a hole or an inner vertex: n - 2 triangles for n sides).
 std::string PolygonsFromFauxTriangles(const FauxTriangles& t, std::vector<std::vector<int>>& polys);
 
