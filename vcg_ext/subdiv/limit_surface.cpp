@@ -250,7 +250,11 @@ std::string CheckDoublets(int nV, const std::vector<int>& valence, const std::ve
     }
   if (doublets)
     return std::to_string(doublets) + " interior vertices have valence 2 (doublets; first: vertex " +
-           std::to_string(firstDoublet) + "): remove them first (e.g. vcgext::RemoveDoublets merges the two faces)";
+           std::to_string(firstDoublet) +
+           "): remove them first (vcgext::RemoveDoublets merges the two faces round each); where those two faces "
+           "share all their edges (a closed piece of two faces, what triangle pairing makes of a tetrahedron) "
+           "nothing can be merged: delete such pieces (e.g. Filters > Cleaning and Repairing > Remove Isolated "
+           "pieces (wrt Face Num.))";
   return {};
 }
 
