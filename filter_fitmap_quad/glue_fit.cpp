@@ -79,10 +79,26 @@ void InitFitParams(const MeshDocument& md, RichParameterList& par) {
 
 namespace {
 
+// The control mesh as read (quads or polygons), cleaned before it is fitted or subdivided: its
+// coordinates as MeshLab 2020.09's float layer holds them (input_prep.h, CoordinatePrecision),
+// coincident boundary vertices welded (a cage exported with every face on its own vertices),
+// doublets (interior valence-2 vertices, which Catmull-Clark evaluation refuses: foreign quad
+// meshes such as MeshLab's triangle pairing and quad-dominant remeshers leave them) merged, as
+// the simplification does (§3.3.3). `faces` / `whose` name them in the log.
+template <class ControlMesh>
+void CleanControl(GlueContext& ctx, ControlMesh& m, const std::string& faces, const std::string& whose) {
+  vcgext::ApplyInputCoordinatePrecision(m.V);
+  if (int nw = vcgext::WeldCoincidentVertices(m))
+    ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
+            " control vertices onto others of the same coordinates (" + faces + " exported each on its own vertices)");
+  if (int nd = vcgext::RemoveDoublets(m))
+    ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) + " doublets (interior valence-2 vertices) of " +
+            whose);
+}
+
 // A control layer with triangles or n-gons among its quads (a quad-dominant cage) as quads:
-// subdivided once by Catmull-Clark, which keeps its limit surface (subdivide_once.h), after its
-// coordinates are taken at the layer's precision, its coincident boundary vertices welded and its
-// doublets merged.
+// cleaned (CleanControl) and subdivided once by Catmull-Clark, which keeps its limit surface
+// (subdivide_once.h; the result has no doublets to merge).
 // Fails with `quadErr` (ImportQuads' error) and why the polygons cannot be read when the layer is
 // no polygonal mesh, or has no quad or polygon at all (a triangle mesh is not a Catmull-Clark cage).
 bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& quadErr, vcgext::QuadData& quads) {
@@ -94,15 +110,7 @@ bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& 
   if (sides[1] + sides[2] == 0)
     return ctx.Fail(quadErr + "; a layer of triangles only is no Catmull-Clark control mesh (Fitmap Quad "
                               "Simplification makes one from it)");
-  vcgext::ApplyInputCoordinatePrecision(poly.V);
-  if (int nw = vcgext::WeldCoincidentVertices(poly))
-    ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
-            " control vertices onto others of the same coordinates (polygons exported each on its own vertices)");
-  // A quad-dominant remesher leaves interior valence-2 vertices between two polygons, which
-  // Catmull-Clark evaluation refuses: merged first, as for quads (§3.3.3).
-  if (int nd = vcgext::RemoveDoublets(poly))
-    ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) +
-            " doublets (interior valence-2 vertices) of the control mesh's polygons");
+  CleanControl(ctx, poly, "polygons", "the control mesh's polygons");
   const std::string err = vcgext::SubdivideOnce(poly, quads);
   if (!err.empty()) return ctx.Fail("the control layer cannot be subdivided into quads: " + err);
   ctx.log("Fit Catmull-Clark Surface: the control layer has " + std::to_string(sides[0]) + " triangles and " +
@@ -112,28 +120,16 @@ bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& 
   return true;
 }
 
-// The control layer as quads, at the precision of MeshLab 2020.09's float layer, coincident
-// vertices welded, doublets merged; a layer with triangles or n-gons subdivided once
-// (SubdividedControl); logs what was paired, welded, subdivided or merged.
+// The control layer as quads, cleaned (CleanControl); a layer with triangles or n-gons
+// subdivided once (SubdividedControl); logs what was paired, welded, merged or subdivided.
 bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& quads) {
   int ambiguous = 0;
   const std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
-  if (!err.empty()) {
-    if (!SubdividedControl(ctx, control, err, quads)) return false;
-  } else {
-    // the control points as MeshLab 2020.09's float layer holds them (input_prep.h, CoordinatePrecision)
-    vcgext::ApplyInputCoordinatePrecision(quads.V);
-    if (ambiguous > 0)
-      ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
-              " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
-    if (int nw = vcgext::WeldCoincidentVertices(quads))
-      ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
-              " control vertices onto others of the same coordinates (quads exported each on its own vertices)");
-  }
-  // Foreign quad meshes (e.g. MeshLab's triangle pairing) may contain doublets (interior
-  // valence-2 vertices): merge them, as the simplification does (§3.3.3).
-  if (int nd = vcgext::RemoveDoublets(quads))
-    ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) + " doublets (interior valence-2 vertices) of the control mesh");
+  if (!err.empty()) return SubdividedControl(ctx, control, err, quads);
+  if (ambiguous > 0)
+    ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
+            " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
+  CleanControl(ctx, quads, "quads", "the control mesh");
   return true;
 }
 
