@@ -13,6 +13,7 @@
 #include "glue.h"
 #include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/input_prep.h"
+#include "vcg_ext/core/pipeline_memory.h"
 #include "vcg_ext/core/quad_cleanup.h"
 #include "vcg_ext/core/quality.h"
 #include "vcg_ext/core/vcg_bridge.h"
@@ -280,14 +281,17 @@ bool ApplyFit(GlueContext& ctx) {
   if (!refModel) return ctx.Fail("the reference layer is missing");
   if (refModel == &control)
     return ctx.Fail("the reference layer must be another layer than the control mesh (the current layer)");
+  vcgext::FitBakeParams p;
+  if (!ReadFitParams(ctx, p)) return false;
+  const std::string memErr =
+      vcgext::CheckPipelineMemory(vcgext::PipelineStep::FitAndBake, refModel->cm.fn, p.fit.maxMemoryMb);
+  if (!memErr.empty()) return ctx.Fail("Fit Catmull-Clark Surface: " + memErr);
   vcgext::QuadData quads;
   if (!ReadControlQuads(ctx, control, quads)) return false;
   vcgext::WorkingCopy w;
   if (!PrepareReference(ctx, *refModel, w)) return false;
   if (!ControlInReferenceCoordinates(ctx, control, *refModel, quads)) return false;
   const vcgext::TriData& ref = w.mesh;
-  vcgext::FitBakeParams p;
-  if (!ReadFitParams(ctx, p)) return false;
   std::string dir;
   if (!MakeOutputDir(ctx, *refModel, dir)) return false;
 

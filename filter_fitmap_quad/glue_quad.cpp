@@ -12,6 +12,7 @@
 #include "glue.h"
 #include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/decimate.h"
+#include "vcg_ext/core/pipeline_memory.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/fitmaps/fitmaps.h"
 #include "vcg_ext/quad/close_holes.h"
@@ -217,6 +218,8 @@ bool QuadFitmaps(GlueContext& ctx, MeshModel& in, const vcgext::WorkingCopy& w, 
     M = vcgext::AttributeOnWorkingCopy(w, in.cm, hM);
     ctx.log("Fitmap Quad Simplification: using the layer's Fitmaps (tau = " + std::to_string(tau) + "%)");
   } else {
+    const std::string memErr = vcgext::CheckPipelineMemory(vcgext::PipelineStep::Fitmaps, in.cm.fn, 0);
+    if (!memErr.empty()) return ctx.Fail("Fitmap Quad Simplification: Fitmaps: " + memErr);
     vcgext::FitmapParams fp;
     fp.tauPercent = tau;
     fp.workingFaces = kDefaultFitmapsWorkingFaces;
@@ -426,6 +429,9 @@ bool ApplyQuad(GlueContext& ctx) {
   if (p.layoutTrials > 1 && !vcgext::BudgetLayout(p))
     ctx.log("Warning: Fitmap Quad Simplification: layout trials need a target patch count (and the equalized "
             "layout): one layout");
+
+  const std::string memErr = vcgext::CheckPipelineMemory(vcgext::PipelineStep::Simplification, in.cm.fn, p.maxMemoryMb);
+  if (!memErr.empty()) return ctx.Fail("Fitmap Quad Simplification: " + memErr);
 
   // The layer's working copy (input_prep.h); a pure-quad layer is simplified from its quads.
   vcgext::WorkingCopy w = vcgext::PrepareQuadPipelineCopy(in.cm);

@@ -90,6 +90,30 @@ TEST(RunPipeline, ReaderCrashIsNamed) {
   EXPECT_NE(r.output.find("re-save the mesh"), std::string::npos) << r.output;
 }
 
+// A scan too large for the memory (core/pipeline_memory.h) is refused by the filter that would
+// exhaust it, with what to do, before it allocates: the kernel would otherwise kill MeshLab.
+// FITMAP_MAX_MEMORY_MB stands in for a small machine: bunny00's Fitmaps are estimated at 92 MB,
+// its simplification at 43, its fit at 123.
+TEST(RunPipeline, ScanTooLargeForTheMemoryIsRefusedByTheFilterThatWouldExhaustIt) {
+  const std::string bunny = e2e::Q(testsupport::SamplePath("bunny00.off"));
+  auto fitmaps = e2e::Run("FITMAP_SKIP_SETUP=1 FITMAP_MAX_MEMORY_MB=60 " + Pipeline() + " " + bunny + " " +
+                          e2e::Q(e2e::OutPath("memory_cap_60")));
+  EXPECT_NE(fitmaps.exitCode, 0);
+  EXPECT_NE(fitmaps.output.find("Compute Fitmaps: a layer of 75408 triangles would need about 92 MB of memory, more "
+                                "than the 60 MB allowed: decimate the layer first"),
+            std::string::npos)
+      << fitmaps.output;
+  auto fit = e2e::Run("FITMAP_SKIP_SETUP=1 FITMAP_MAX_MEMORY_MB=100 " + Pipeline() + " " + bunny + " " +
+                      e2e::Q(e2e::OutPath("memory_cap_100")));
+  EXPECT_NE(fit.exitCode, 0);
+  EXPECT_EQ(fit.output.find("Compute Fitmaps: a layer"), std::string::npos) << "the Fitmaps fit in 100 MB";
+  EXPECT_NE(fit.output.find("Fit Catmull-Clark Surface: a reference layer of 75408 triangles would need about 123 MB "
+                            "of memory, more than the 100 MB allowed: decimate the reference layer first"),
+            std::string::npos)
+      << fit.output;
+  EXPECT_FALSE(std::ifstream(e2e::OutPath("memory_cap_100") + "/report.json").good());
+}
+
 // A patch budget: the simplification stops there (it can only stop earlier than the M-fitmap
 // halting), the report says so.
 TEST(RunPipeline, PatchBudgetIsHonoured) {

@@ -188,6 +188,24 @@ def test_bad_input_raises_the_message_and_leaves_the_layers(call, message):
     assert_layers_equal(before, layers_snapshot(ms))
 
 
+def test_a_layer_too_large_for_the_memory_is_refused(monkeypatch):
+    # FITMAP_MAX_MEMORY_MB stands in for a small machine (core/pipeline_memory.h): the Fitmaps of
+    # 5 120 triangles are estimated at 44 MB; refused before anything is allocated, the layer
+    # untouched, as from meshlabserver (tests/e2e RunPipeline.ScanTooLargeForTheMemory...)
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(icosphere(4), "sphere")
+    before = layers_snapshot(ms)
+    monkeypatch.setenv("FITMAP_MAX_MEMORY_MB", "20")
+    with pytest.raises(pymeshlab.PyMeshLabException) as e:
+        ms.compute_scalar_by_fitmaps_per_vertex()
+    assert ("Details: Compute Fitmaps: a layer of 5120 triangles would need about 44 MB of memory, more than the "
+            "20 MB allowed: decimate the layer first") in str(e.value), str(e.value)
+    assert_layers_equal(before, layers_snapshot(ms))
+    monkeypatch.setenv("FITMAP_MAX_MEMORY_MB", "50")
+    ms.compute_scalar_by_fitmaps_per_vertex()
+    assert np.all(np.isfinite(ms.current_mesh().vertex_scalar_array()))
+
+
 def test_fit_on_triangles_fails_with_the_importer_message():
     # the control layer must be quads; a triangle layer is refused, the document is unchanged
     ms = pymeshlab.MeshSet()

@@ -52,13 +52,22 @@ double StagePeakMemoryMb() {
   return peak;
 }
 
+double ResidentMemoryMb() {
+  const long kb = ProcKb("/proc/self/status", "VmRSS:");
+  return kb > 0 ? kb / 1024.0 : 0.0;
+}
+
 double AvailableMemoryMb() {
   const long kb = ProcKb("/proc/meminfo", "MemAvailable:");
   return kb > 0 ? kb / 1024.0 : 0.0;
 }
 
 std::string CheckMemory(double needMb, double budgetMb, const std::string& what) {
-  const double budget = budgetMb > 0 ? budgetMb : 0.8 * AvailableMemoryMb();
+  const char* env = std::getenv("FITMAP_MAX_MEMORY_MB");
+  const double cap = budgetMb > 0 ? budgetMb : env ? std::atof(env) : 0.0;  // a limit set: "allowed"
+  const double available = 0.8 * AvailableMemoryMb();
+  const bool capped = cap > 0 && (budgetMb > 0 || !(available > 0) || cap < available);
+  const double budget = capped ? cap : available;
   if (!(budget > 0) || needMb <= budget) return {};
   auto size = [](double mb) {
     char buf[32];
@@ -67,7 +76,7 @@ std::string CheckMemory(double needMb, double budgetMb, const std::string& what)
     return std::string(buf);
   };
   return what + " would need about " + size(needMb) + " of memory, more than the " + size(budget) +
-         (budgetMb > 0 ? " allowed" : " available");
+         (capped ? " allowed" : " available");
 }
 
 double ProcessPeakMemoryMb() {

@@ -14,6 +14,7 @@
 #include "vcg_ext/core/indexed_mesh.h"
 #include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/input_prep.h"
+#include "vcg_ext/core/pipeline_memory.h"
 
 namespace vcgext {
 
@@ -101,6 +102,10 @@ struct FitmapParams {
   /// (barycentric). 0 = at every vertex of the mesh (the default of the library; the filters
   /// use their "working resolution"). Fast mode without a vertex subset only.
   int workingFaces = 0;
+  /// The vcg entry point refuses (an error, the mesh untouched) a mesh whose Fitmaps would need
+  /// more memory than this many MB (EstimatePipelineMemoryMb); 0: 80 % of the memory available
+  /// when it starts (CheckMemory).
+  double maxMemoryMb = 0;
 };
 
 /// The radii r_0..r_h of ComputeFitmaps (ascending, absolute): `r0` the average edge length,
@@ -153,14 +158,17 @@ inline const char* kFitmapMAttr = "FitmapM";
 
 /// vcg entry point: computes the Fitmaps on the layer's working copy (input_prep.h: polygonal
 /// layers as triangles, duplicates merged, re-oriented, non-manifold vertices split; non-manifold
-/// edges or non-orientable input are an error) and stores them in the per-vertex float
+/// edges, non-orientable input or a mesh too large for the memory (FitmapParams::maxMemoryMb)
+/// are an error) and stores them in the per-vertex float
 /// attributes FitmapS / FitmapM (created if missing); vertices in no face get 0. On error the
 /// mesh is untouched and `result.error` says why. `result.S` / `result.M` are indexed like the
 /// working copy.
 template <class MeshType>
 FitmapResult ComputeFitmaps(MeshType& m, const FitmapParams& p, vcg::CallBackPos* cb = nullptr) {
-  WorkingCopy w = PrepareQuadPipelineCopy(m);
   FitmapResult res;
+  res.error = CheckPipelineMemory(PipelineStep::Fitmaps, m.fn, p.maxMemoryMb);
+  if (!res.error.empty()) return res;
+  WorkingCopy w = PrepareQuadPipelineCopy(m);
   if (!w.error.empty()) { res.error = w.error; return res; }
   EmbreeScene scene(w.mesh);
   if (!scene.Ok()) { res.error = scene.Error(); return res; }

@@ -33,6 +33,7 @@
 #include "vcg_ext/core/indexed_mesh.h"
 #include "vcg_ext/core/far_spikes.h"
 #include "vcg_ext/core/input_prep.h"
+#include "vcg_ext/core/pipeline_memory.h"
 #include "vcg_ext/quad/tri_to_quad.h"
 
 namespace vcgext {
@@ -46,6 +47,9 @@ inline constexpr double kSweepUnprojectableSlackPct = 0.01;
 /// Parameters of SimplifyToQuads. There is no tau here: the M-Fitmap already encodes it.
 struct QuadSimplifyParams {
   int targetPatches = 0;          ///< stop at this many patches (0 = only when no feasible collapse is left)
+  /// The vcg entry point refuses (an error) a mesh whose simplification would need more memory
+  /// than this many MB (EstimatePipelineMemoryMb); 0: 80 % of the memory available when it starts.
+  double maxMemoryMb = 0;
   bool useMFitmap = true;         ///< the projectability test of §3.3 (false: S-cost only, needs targetPatches)
   bool edgeSwaps = true;          ///< valence-improving swaps after each collapse (§3.3.2)
   /// Beyond the paper (issue 13, docs/quad.md "Swap sweep"): after the last collapse, passes over
@@ -378,7 +382,8 @@ bool PolygonalQuads(const MeshType& m, const TriData& data, std::vector<Quad>& q
 /// vcgext::ComputeFitmaps: "FitmapS", "FitmapM"; this library does not compute them), builds the
 /// Embree scene and simplifies. A polygonal layer whose faux edges pair all triangles into quads
 /// is simplified as quads (path AlreadyQuads), any other layer goes through tri-to-quad. The
-/// input mesh is not modified. Errors as SimplifyToQuads, plus missing attributes.
+/// input mesh is not modified. Errors as SimplifyToQuads, plus missing attributes and a mesh too
+/// large for the memory (QuadSimplifyParams::maxMemoryMb).
 template <class MeshType>
 QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& p, vcg::CallBackPos* cb = nullptr,
                                    const char* sAttr = "FitmapS", const char* mAttr = "FitmapM");
@@ -427,6 +432,8 @@ template <class MeshType>
 QuadSimplifyResult SimplifyToQuads(const MeshType& m, const QuadSimplifyParams& p, vcg::CallBackPos* cb,
                                    const char* sAttr, const char* mAttr) {
   QuadSimplifyResult res;
+  res.error = CheckPipelineMemory(PipelineStep::Simplification, m.fn, p.maxMemoryMb);
+  if (!res.error.empty()) return res;
   WorkingCopy w = PrepareQuadPipelineCopy(m);
   if (!w.error.empty()) { res.error = w.error; return res; }
   MeshType& mm = const_cast<MeshType&>(m);  // attribute lookup is non-const in vcglib; nothing is written
