@@ -97,6 +97,15 @@ void CleanControl(GlueContext& ctx, ControlMesh& m, const std::string& faces, co
             whose);
 }
 
+// The control layer's triangles the readers flipped to agree with their neighbours (ImportQuads'
+// `flipped`), logged.
+void LogFlipped(GlueContext& ctx, int flipped) {
+  if (flipped > 0)
+    ctx.log("Fit Catmull-Clark Surface: " + std::to_string(flipped) +
+            " of the control layer's triangles were stored reversed against their neighbours: read oriented "
+            "coherently, each piece as most of its faces (the layer untouched)");
+}
+
 // A control layer with triangles or n-gons among its quads (a quad-dominant cage) as quads:
 // cleaned (CleanControl) and subdivided once by Catmull-Clark, which keeps its limit surface
 // (subdivide_once.h; the result has no doublets to merge).
@@ -104,8 +113,10 @@ void CleanControl(GlueContext& ctx, ControlMesh& m, const std::string& faces, co
 // no polygonal mesh, or has no quad or polygon at all (a triangle mesh is not a Catmull-Clark cage).
 bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& quadErr, vcgext::QuadData& quads) {
   vcgext::PolyData poly;
-  const std::string polyErr = vcgext::ImportPolygons(control.cm, poly);
+  int flipped = 0;
+  const std::string polyErr = vcgext::ImportPolygons(control.cm, poly, &flipped);
   if (!polyErr.empty()) return ctx.Fail(quadErr + "; as polygons: " + polyErr);
+  LogFlipped(ctx, flipped);
   int sides[3] = {0, 0, 0};  // triangles, quads, more (as the layer has them)
   for (const auto& f : poly.F) ++sides[std::min<size_t>(f.size(), 5) - 3];
   if (sides[1] + sides[2] == 0)
@@ -124,9 +135,10 @@ bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& 
 // The control layer as quads, cleaned (CleanControl); a layer with triangles or n-gons
 // subdivided once (SubdividedControl); logs what was paired, welded, merged or subdivided.
 bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& quads) {
-  int ambiguous = 0;
-  const std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous);
+  int ambiguous = 0, flipped = 0;
+  const std::string err = vcgext::ImportQuads(control.cm, quads, &ambiguous, &flipped);
   if (!err.empty()) return SubdividedControl(ctx, control, err, quads);
+  LogFlipped(ctx, flipped);
   if (ambiguous > 0)
     ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
             " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");

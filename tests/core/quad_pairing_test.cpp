@@ -142,3 +142,45 @@ TEST(PolygonsFromFauxTriangles, FauxEdgesThatMakeNoPolygonAreErrors) {
   c.faux = {{true, false, false}, {true, false, false}, {true, false, false}};
   EXPECT_NE(vcgext::PolygonsFromFauxTriangles(c, out).find("run the same way by two triangles"), std::string::npos);
 }
+
+// OrientFauxTriangles: polygons stored reversed against their neighbours are flipped back, the
+// majority's orientation kept, and the faux flags follow the edges, so the polygons read back as
+// they were meant; a triangle reversed inside its quad too; a Moebius strip is reported.
+TEST(OrientFauxTriangles, FlipsTheMinorityAndCarriesTheFauxFlags) {
+  const std::vector<std::vector<int>> polys = {{0, 1, 2, 3, 4, 5}, {1, 0, 6, 7, 8}, {2, 1, 8, 9}, {3, 2, 9}};
+  auto reversed = [](std::vector<int> p) { return std::vector<int>(p.rbegin(), p.rend()); };
+  vcgext::FauxTriangles t;
+  Fan(polys[0], t);            // 4 triangles
+  Fan(reversed(polys[1]), t);  // 3, reversed
+  Fan(polys[2], t);            // 2
+  Fan(reversed(polys[3]), t);  // 1, reversed
+  int nonOrientable = -1;
+  EXPECT_EQ(vcgext::OrientFauxTriangles(t, &nonOrientable), 3 + 1);
+  EXPECT_EQ(nonOrientable, 0);
+  std::vector<std::vector<int>> back;
+  ASSERT_EQ(vcgext::PolygonsFromFauxTriangles(t, back), "");
+  EXPECT_EQ(CanonLoops(back), CanonLoops(polys));
+  EXPECT_EQ(vcgext::OrientFauxTriangles(t), 0) << "coherent now";
+
+  // One half of a quad reversed: its faux diagonal is run the same way twice until oriented.
+  vcgext::FauxTriangles q;
+  Fan({0, 1, 2, 3}, q);
+  Fan({3, 2, 4, 5}, q);
+  std::swap(q.tris[3][1], q.tris[3][2]);
+  std::swap(q.faux[3][0], q.faux[3][2]);
+  back.clear();
+  EXPECT_NE(vcgext::PolygonsFromFauxTriangles(q, back).find("run the same way"), std::string::npos);
+  EXPECT_EQ(vcgext::OrientFauxTriangles(q), 1);
+  back.clear();
+  ASSERT_EQ(vcgext::PolygonsFromFauxTriangles(q, back), "");
+  EXPECT_EQ(CanonLoops(back), CanonLoops({{0, 1, 2, 3}, {3, 2, 4, 5}}));
+
+  // A Moebius strip of six quads: top i, bottom i + 6; the last quad joins the first twisted.
+  vcgext::FauxTriangles m;
+  for (int i = 0; i < 6; ++i) {
+    const int t0 = i, b0 = i + 6, t1 = i < 5 ? i + 1 : 6, b1 = i < 5 ? i + 7 : 0;
+    Fan({t0, b0, b1, t1}, m);
+  }
+  EXPECT_EQ(vcgext::OrientFauxTriangles(m, &nonOrientable), 0);
+  EXPECT_EQ(nonOrientable, 1);
+}

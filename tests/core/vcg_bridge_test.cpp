@@ -1,4 +1,5 @@
 // Quad layers in MeshLab's faux-edge convention <-> QuadData.
+#include <algorithm>
 #include <fstream>
 #include <type_traits>
 
@@ -176,4 +177,29 @@ TEST(VcgBridge, ImportPolygonsReadsWhatThePlyImporterFanned) {
   std::vector<std::vector<int>> grid;
   for (const auto& f : Grid(3).F) grid.push_back({f[0], f[1], f[2], f[3]});
   EXPECT_EQ(CanonicalFaceSet(p.F), CanonicalFaceSet(grid));
+}
+
+// With `flipped`, quads stored reversed against their neighbours (an export, parts merged) read
+// back as the grid they belong to; the layer itself is not modified. Without it they read as stored.
+TEST(VcgBridge, ImportOrientsQuadsStoredReversedWhenAsked) {
+  vcgext::QuadData g = Grid(4);
+  for (int f : {1, 6, 11}) std::reverse(g.F[f].begin(), g.F[f].end());
+  vcgext::TMesh m;
+  vcgext::ExportQuads(g, m);
+  vcgext::QuadData asStored, oriented;
+  ASSERT_EQ(vcgext::ImportQuads(m, asStored), "");
+  EXPECT_EQ(CanonicalFaceSet(asStored.F), CanonicalFaceSet(g.F));
+  int flipped = -1;
+  ASSERT_EQ(vcgext::ImportQuads(m, oriented, nullptr, &flipped), "");
+  EXPECT_EQ(flipped, 2 * 3);
+  EXPECT_EQ(CanonicalFaceSet(oriented.F), CanonicalFaceSet(Grid(4).F));
+  vcgext::PolyData p;
+  flipped = -1;
+  ASSERT_EQ(vcgext::ImportPolygons(m, p, &flipped), "");
+  EXPECT_EQ(flipped, 2 * 3);
+  std::vector<std::vector<int>> grid;
+  for (const auto& f : Grid(4).F) grid.push_back({f[0], f[1], f[2], f[3]});
+  EXPECT_EQ(CanonicalFaceSet(p.F), CanonicalFaceSet(grid));
+  ASSERT_EQ(vcgext::ImportQuads(m, asStored), "");  // the layer as it was
+  EXPECT_EQ(CanonicalFaceSet(asStored.F), CanonicalFaceSet(g.F));
 }

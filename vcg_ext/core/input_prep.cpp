@@ -253,51 +253,6 @@ int NonManifoldVertices(std::vector<Tri>& F, const std::vector<int>& join, int n
   return bad;
 }
 
-// 4. coherent orientation per component (breadth-first over manifold edges); returns the number
-// of flipped faces, counts non-orientable components.
-int OrientComponents(std::vector<Tri>& F, const EdgeFaces& e, int* components, int* nonOrientable) {
-  const int nf = int(F.size());
-  std::vector<int> comp(nf, -1);
-  std::vector<char> flip(nf, 0);
-  *components = 0;
-  *nonOrientable = 0;
-  int flipped = 0;
-  std::vector<int> queue;
-  for (int seed = 0; seed < nf; ++seed) {
-    if (comp[seed] >= 0) continue;
-    const int c = (*components)++;
-    comp[seed] = c;
-    queue.assign(1, seed);
-    bool orientable = true;
-    for (size_t qi = 0; qi < queue.size(); ++qi) {
-      const int f = queue[qi];
-      for (int k = 0; k < 3; ++k) {
-        const int eid = e.sideEdge[f * 3 + k];
-        if (e.offs[eid + 1] - e.offs[eid] != 2) continue;
-        const int s0 = e.idx[e.offs[eid]], s1 = e.idx[e.offs[eid] + 1];
-        const int g = (s0 / 3 == f) ? s1 / 3 : s0 / 3, sg = (s0 / 3 == f) ? s1 : s0;
-        // same direction along the shared edge means opposite orientations
-        const bool same = F[f][k] == F[g][sg % 3];
-        const char want = char(flip[f] ^ (same ? 1 : 0));
-        if (comp[g] < 0) {
-          comp[g] = c;
-          flip[g] = want;
-          queue.push_back(g);
-        } else if (flip[g] != want) {
-          orientable = false;
-        }
-      }
-    }
-    if (!orientable) { ++*nonOrientable; continue; }
-    int n = 0;
-    for (int f : queue) n += flip[f];
-    const bool invert = 2 * n > int(queue.size());  // keep the majority's orientation
-    for (int f : queue)
-      if (flip[f] != invert) { std::swap(F[f][1], F[f][2]); ++flipped; }
-  }
-  return flipped;
-}
-
 std::string Plural(int n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }

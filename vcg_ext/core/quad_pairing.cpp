@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "vcg_ext/core/edge_faces.h"
 #include "vcg_ext/core/input_prep.h"
 #include "vcg_ext/core/union_find.h"
 
@@ -180,6 +181,22 @@ std::vector<int> PolygonLoop(const FauxTriangles& t, const std::vector<int>& gro
 }
 
 }  // namespace
+
+int OrientFauxTriangles(FauxTriangles& t, int* nonOrientable) {
+  if (nonOrientable) *nonOrientable = 0;
+  for (const Tri& f : t.tris)
+    if (f[0] == f[1] || f[1] == f[2] || f[2] == f[0]) return 0;  // no orientation to agree on: the readers say
+  std::vector<Tri> F = t.tris;
+  int components = 0, bad = 0;
+  const int flipped = OrientComponents(F, BuildEdgeFaces(F), &components, &bad);
+  if (nonOrientable) *nonOrientable = bad;
+  for (size_t i = 0; i < F.size(); ++i)
+    if (F[i] != t.tris[i]) {  // (a, b, c) -> (a, c, b): edge 0 is now a-c (was edge 2), edge 2 b-a (was 0)
+      t.tris[i] = F[i];
+      std::swap(t.faux[i][0], t.faux[i][2]);
+    }
+  return flipped;
+}
 
 std::string PolygonsFromFauxTriangles(const FauxTriangles& t, std::vector<std::vector<int>>& polys) {
   std::vector<std::vector<int>> groups;

@@ -39,6 +39,15 @@ struct FauxTriangles {
 /// its corners (a polygon with a hole or an inner vertex: n - 2 triangles for n sides).
 std::string PolygonsFromFauxTriangles(const FauxTriangles& t, std::vector<std::vector<int>>& polys);
 
+/// Orients the triangles of `t` coherently per connected component, across every edge of exactly
+/// two triangles (faux or not), keeping the orientation of each component's majority
+/// (OrientComponents, as the working copy of an input is oriented: input_prep.h); a flipped
+/// triangle's faux flags follow its edges. A control layer some of whose polygons were stored
+/// reversed (an export, a merge of parts) then reads as the author meant it. Returns the
+/// triangles flipped; `nonOrientable` (optional) counts the components that cannot be oriented
+/// (left as they are). A list with a degenerate triangle (a corner repeated) is left as it is.
+int OrientFauxTriangles(FauxTriangles& t, int* nonOrientable = nullptr);
+
 /// Cage q as the next filter reads it back from a MeshLab layer (ExportQuads, then ImportQuads
 /// and ApplyInputCoordinatePrecision, as the fit filter reads its control layer): coordinates
 /// rounded to the layer's scalar (float in MeshLab 2020.09; double in the 2025 build that PyMeshLab

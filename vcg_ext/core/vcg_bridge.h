@@ -36,6 +36,30 @@ std::string ImportLayerVertices(const MeshType& m, std::vector<Vec3>& V, std::ve
   if (nonFinite) return std::to_string(nonFinite) + " control vertices have NaN or infinite coordinates";
   return "";
 }
+
+// The live vertices (ImportLayerVertices) and triangles of `m` with their faux flags; with
+// `flipped`, the triangles oriented coherently first (OrientFauxTriangles), *flipped the number
+// flipped. "" or what is wrong (as ImportLayerVertices, no faces, a component that cannot be oriented).
+template <class MeshType>
+std::string ImportLayerTriangles(const MeshType& m, std::vector<Vec3>& V, FauxTriangles& t, int* flipped) {
+  std::vector<int> remap;
+  std::string err = ImportLayerVertices(m, V, remap);
+  if (!err.empty()) return err;
+  t = FauxTriangles();
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    t.tris.push_back({remap[f.cV(0) - &m.vert[0]], remap[f.cV(1) - &m.vert[0]], remap[f.cV(2) - &m.vert[0]]});
+    t.faux.push_back({f.IsF(0), f.IsF(1), f.IsF(2)});
+  }
+  if (t.tris.empty()) return "the control layer has no faces";
+  if (!flipped) return "";
+  int nonOrientable = 0;
+  *flipped = OrientFauxTriangles(t, &nonOrientable);
+  if (nonOrientable > 0)
+    return "the control layer is not orientable: " + std::to_string(nonOrientable) +
+           " of its pieces cannot be oriented coherently (a Moebius strip)";
+  return "";
+}
 }  // namespace bridge_detail
 
 /// Reads a pure-quad vcg layer (triangle pairs with one faux edge each) into `out`.
@@ -46,28 +70,26 @@ std::string ImportLayerVertices(const MeshType& m, std::vector<Vec3>& V, std::ve
 /// split along them by a tool that fans polygons, e.g. MeshLab's PLY importer) is ambiguous:
 /// those triangles are paired greedily by the agreement of their normals (a true quad's two
 /// halves are nearly coplanar); `ambiguousResolved` (optional) counts such diagonals.
+/// With `flipped` (optional), the layer's triangles are first oriented coherently, each piece
+/// keeping its majority's orientation (OrientFauxTriangles), and *flipped counts those flipped
+/// (the layer is not modified); a piece that cannot be oriented is then an error.
 template <class MeshType>
-std::string ImportQuads(const MeshType& m, QuadData& out, int* ambiguousResolved = nullptr) {
+std::string ImportQuads(const MeshType& m, QuadData& out, int* ambiguousResolved = nullptr, int* flipped = nullptr) {
   if (ambiguousResolved) *ambiguousResolved = 0;
   out.F.clear();
-  std::vector<int> remap;
-  std::string err = bridge_detail::ImportLayerVertices(m, out.V, remap);
+  FauxTriangles t;
+  std::string err = bridge_detail::ImportLayerTriangles(m, out.V, t, flipped);
   if (!err.empty()) return err;
   FauxHalves halves;
   int triangles = 0, polygons = 0;
-  for (const auto& f : m.face) {
-    if (f.IsD()) continue;
-    std::array<int, 3> t;
-    for (int k = 0; k < 3; ++k) t[k] = remap[f.cV(k) - &m.vert[0]];
-    int nf = 0, slot = -1;
-    for (int k = 0; k < 3; ++k)
-      if (f.IsF(k)) { ++nf; slot = k; }
+  for (size_t i = 0; i < t.tris.size(); ++i) {
+    const auto& faux = t.faux[i];
+    const int nf = int(faux[0]) + int(faux[1]) + int(faux[2]);
     if (nf == 0) { ++triangles; continue; }
     if (nf > 1) { ++polygons; continue; }
-    halves.tris.push_back(t);
-    halves.fauxSlot.push_back(slot);
+    halves.tris.push_back(t.tris[i]);
+    halves.fauxSlot.push_back(faux[0] ? 0 : faux[1] ? 1 : 2);
   }
-  if (halves.tris.empty() && triangles == 0) return "the control layer has no faces";
   if (triangles > 0)
     return "the control layer is not pure-quad: " + std::to_string(triangles) +
            " triangles have no faux edge (a quad is two triangles sharing a faux edge)";
@@ -81,20 +103,13 @@ std::string ImportQuads(const MeshType& m, QuadData& out, int* ambiguousResolved
 /// edges) into `out`: triangles, quads and n-gons (PolygonsFromFauxTriangles). Returns "" or what
 /// is wrong (as ImportQuads, or faux edges that do not make polygons). Deleted elements are
 /// skipped; unreferenced vertices are kept. Unlike ImportQuads, a faux edge shared by several
-/// triangle pairs is refused rather than resolved.
+/// triangle pairs is refused rather than resolved. `flipped` as for ImportQuads.
 template <class MeshType>
-std::string ImportPolygons(const MeshType& m, PolyData& out) {
+std::string ImportPolygons(const MeshType& m, PolyData& out, int* flipped = nullptr) {
   out.F.clear();
-  std::vector<int> remap;
-  std::string err = bridge_detail::ImportLayerVertices(m, out.V, remap);
-  if (!err.empty()) return err;
   FauxTriangles t;
-  for (const auto& f : m.face) {
-    if (f.IsD()) continue;
-    t.tris.push_back({remap[f.cV(0) - &m.vert[0]], remap[f.cV(1) - &m.vert[0]], remap[f.cV(2) - &m.vert[0]]});
-    t.faux.push_back({f.IsF(0), f.IsF(1), f.IsF(2)});
-  }
-  if (t.tris.empty()) return "the control layer has no faces";
+  std::string err = bridge_detail::ImportLayerTriangles(m, out.V, t, flipped);
+  if (!err.empty()) return err;
   err = PolygonsFromFauxTriangles(t, out.F);
   return err.empty() ? err : "the control layer's polygons cannot be read: " + err;
 }
