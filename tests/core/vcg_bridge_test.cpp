@@ -1,5 +1,6 @@
 // Quad layers in MeshLab's faux-edge convention <-> QuadData.
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <type_traits>
 
@@ -202,4 +203,14 @@ TEST(VcgBridge, ImportOrientsQuadsStoredReversedWhenAsked) {
   EXPECT_EQ(CanonicalFaceSet(p.F), CanonicalFaceSet(grid));
   ASSERT_EQ(vcgext::ImportQuads(m, asStored), "");  // the layer as it was
   EXPECT_EQ(CanonicalFaceSet(asStored.F), CanonicalFaceSet(g.F));
+
+  // A Moebius strip of six quads (top i, bottom i + 6, the last quad joining the first twisted)
+  // cannot be oriented: said so.
+  vcgext::QuadData strip;
+  for (int i = 0; i < 12; ++i) strip.V.emplace_back(std::cos(i % 6), std::sin(i % 6), i < 6 ? 0.1 * i : -1.0 - 0.1 * i);
+  for (int i = 0; i < 6; ++i) strip.F.push_back({i, i + 6, i < 5 ? i + 7 : 0, i < 5 ? i + 1 : 6});
+  vcgext::TMesh mm;
+  vcgext::ExportQuads(strip, mm);
+  EXPECT_NE(vcgext::ImportQuads(mm, asStored, nullptr, &flipped).find("the control layer is not orientable: 1 of its pieces"),
+            std::string::npos);
 }

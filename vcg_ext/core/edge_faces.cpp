@@ -82,5 +82,4 @@ int OrientComponents(std::vector<Tri>& F, const EdgeFaces& e, int* components, i
   return flipped;
 }
 
-
 }  // namespace vcgext

@@ -30,9 +30,9 @@ double AvailableMemoryMb();
 /// "" when `needMb` fits the budget — `budgetMb`, or when that is 0, 80 % of AvailableMemoryMb()
 /// (nothing is refused where that cannot be read), lowered to the environment variable
 /// FITMAP_MAX_MEMORY_MB (MB) where that is set (a shared machine's limit; how the tests make a
-/// filter refuse) — else "<what> would need about X of memory,
-/// more than the Y allowed / available". Work that would exhaust the machine is refused with it
-/// before it starts: the kernel would otherwise kill the process (MeshLab with it).
+/// filter refuse) — else "<what> would need about X of memory, more than the Y allowed /
+/// available". Work that would exhaust the machine is refused with it before it starts: the
+/// kernel would otherwise kill the process (MeshLab with it).
 std::string CheckMemory(double needMb, double budgetMb, const std::string& what);
 
 /// Per stage: name and peak resident memory in MB.

@@ -17,9 +17,10 @@ namespace {
 //   4 826 112       2811                793                2650
 //
 // and Compute Fitmaps at every vertex (workingFaces 0; bench_fitmaps, whose peak includes its
-// input): 197 MB at 302k, 811 MB at 1.2 M. Each estimate is a line above every measurement: a fixed part plus MB per million
-// triangles (the working copy, its Embree scene, the working resolution's decimation of a copy,
-// the per-vertex results; the fit's tessellations, atlas and second scene).
+// input): 197 MB at 302k, 811 MB at 1.2 M. Each estimate is a line above every measurement: a
+// fixed part plus MB per million triangles (the working copy, its Embree scene, the working
+// resolution's decimation of a copy, the per-vertex results; the fit's tessellations, atlas and
+// second scene).
 struct Line {
   double fixedMb, mbPerMillion;
 };

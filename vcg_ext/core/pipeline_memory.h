@@ -3,7 +3,7 @@
 /// The memory each filter of the quad pipeline needs beyond what its host (MeshLab) already
 /// holds, from the input's triangle count, and the refusal of an input that would not fit: the
 /// kernel would otherwise kill the process, MeshLab with it and the user's unsaved work
-/// (docs/robustness.md "Memory"). The estimates are fitted to what was measured on bunny00 and
+/// (docs/robustness.md "Scans too large for the memory"). The estimates are fitted to what was measured on bunny00 and
 /// its midpoint refinements up to 4.8 M triangles (pipeline_memory.cpp).
 #include <string>
 
