@@ -170,11 +170,16 @@ bool LayerQuads(GlueContext& ctx, MeshModel& in, vcgext::WorkingCopy& w, int tar
       for (int k = 0; k < 3; ++k) faux += f.IsF(k) ? 1 : 0;
   bool useQuads = false;
   if (faux > 0) {
-    std::string err = vcgext::ImportQuads(in.cm, given);
+    int flipped = 0;
+    std::string err = vcgext::ImportQuads(in.cm, given, nullptr, &flipped);
     // a tiny quad layer (a 6-quad cube) is better started from its refined triangles
     // (and one with fewer quads than the budget from its triangles, refined for room)
     useQuads = err.empty() && int(given.F.size()) * 2 >= kMinWorkingFaces && int(given.F.size()) >= targetPatches &&
                vcgext::RemapQuadsToWorkingCopy(w, given.F);
+    if (useQuads && flipped > 0)
+      ctx.log("Fitmap Quad Simplification: " + std::to_string(flipped) +
+              " of the layer's triangles were stored reversed against their neighbours: its quads read oriented "
+              "coherently, each piece as most of its faces (the layer untouched)");
     ctx.log(useQuads ? "Fitmap Quad Simplification: the layer is pure quads: simplifying its quads"
                      : "Fitmap Quad Simplification: the layer's polygons are not usable as quads (" +
                            (err.empty() ? std::string("repaired on the working copy, or too few") : err) +

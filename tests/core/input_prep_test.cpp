@@ -331,6 +331,40 @@ TEST(InputPrep, NonManifoldVerticesAreSplitIntoOneCopyPerSheet) {
 }
 
 
+// Quads whose triangles the working copy re-oriented are usable when they run as its triangles do
+// (read oriented, as ImportQuads' `flipped` gives them), and refused as stored (reversed against the
+// faces made of them): each quad side must be a side of a working triangle, the same way round.
+TEST(InputPrep, QuadsAreRemappedWhenTheyRunAsTheOrientedTriangles) {
+  TriData grid;
+  std::vector<vcgext::Quad> quads;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 3; ++i) grid.V.push_back(Vec3(i, j, 0.1 * ((i * j) % 3)));
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int a = 4 * j + i;
+      quads.push_back({a, a + 1, a + 5, a + 4});
+    }
+  std::vector<vcgext::Quad> stored = quads;
+  std::reverse(stored[4].begin(), stored[4].end());  // the middle quad stored clockwise
+  for (const auto& q : stored) {
+    grid.F.push_back({q[0], q[1], q[2]});
+    grid.F.push_back({q[0], q[2], q[3]});
+  }
+  WorkingCopy w = vcgext::PrepareWorkingCopy(grid);
+  ASSERT_EQ(w.error, "");
+  EXPECT_EQ(w.flippedFaces, 2);
+  // as stored: the middle quad's sides are all inner edges, each run that way by a neighbour's
+  // triangle, but not by its own
+  EXPECT_FALSE(vcgext::RemapQuadsToWorkingCopy(w, stored));
+  std::vector<vcgext::Quad> oriented = quads;
+  ASSERT_TRUE(vcgext::RemapQuadsToWorkingCopy(w, oriented));
+  for (size_t f = 0; f < quads.size(); ++f)
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(oriented[f][k], w.liveToMesh[quads[f][k]]);
+  std::vector<vcgext::Quad> missing = quads;
+  missing[0] = {0, 1, 6, 4};  // a side (1, 6) no working triangle has
+  EXPECT_FALSE(vcgext::RemapQuadsToWorkingCopy(w, missing));
+}
+
 // The counts on random damage (fins on random edges, triangles hung on random vertices) against
 // the brute force, and unchanged by renumbering the vertices and reordering the faces.
 TEST(InputPrep, NonManifoldCountsMatchBruteForceOnRandomDamage) {

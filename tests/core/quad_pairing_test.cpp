@@ -140,7 +140,21 @@ TEST(PolygonsFromFauxTriangles, FauxEdgesThatMakeNoPolygonAreErrors) {
   vcgext::FauxTriangles c;
   c.tris = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
   c.faux = {{true, false, false}, {true, false, false}, {true, false, false}};
-  EXPECT_NE(vcgext::PolygonsFromFauxTriangles(c, out).find("run the same way by two triangles"), std::string::npos);
+  const std::string nonManifold = vcgext::PolygonsFromFauxTriangles(c, out);
+  EXPECT_NE(nonManifold.find("run the same way by two triangles: 3 triangles have a faux edge shared by more than two"),
+            std::string::npos)
+      << nonManifold;
+  EXPECT_NE(nonManifold.find("Repair non Manifold Edges"), std::string::npos) << nonManifold;
+  EXPECT_EQ(nonManifold.find("Re-Orient"), std::string::npos) << "orienting cannot help it: " << nonManifold;
+  // Two triangles running their faux edge the same way (half a quad stored reversed): orientation.
+  vcgext::FauxTriangles d;
+  d.tris = {{0, 1, 2}, {0, 1, 3}};
+  d.faux = {{true, false, false}, {true, false, false}};
+  const std::string reversed = vcgext::PolygonsFromFauxTriangles(d, out);
+  EXPECT_NE(reversed.find("1 faux edges are run the same way by two triangles (faces of inconsistent orientation"),
+            std::string::npos)
+      << reversed;
+  EXPECT_NE(reversed.find("Re-Orient all faces coherently"), std::string::npos) << reversed;
 }
 
 // OrientFauxTriangles: polygons stored reversed against their neighbours are flipped back, the

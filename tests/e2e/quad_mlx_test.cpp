@@ -1,6 +1,7 @@
 // quad_simplification.mlx and pipeline.mlx end to end on real scans.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -9,6 +10,8 @@
 
 #include "e2e_support.h"
 #include "test_support.h"
+#include "tests/quad/quad_test_util.h"
+#include "vcg_ext/fit/fit_io.h"
 #include "vcg_ext/core/vcg_bridge.h"
 #include "vcg_ext/io/mesh_io.h"
 
@@ -120,6 +123,39 @@ TEST(RunPipeline, WholePipelineOnElephantWritesConsistentOutputs) {
   vcgext::TMesh lim;
   ASSERT_EQ(vcgext::LoadMesh(outdir + "/limit.ply", lim), "");
   EXPECT_EQ(lim.fn, 2 * 8 * 8 * s.F);
+}
+
+// A pure-quad layer (a quad remesher's output) is simplified from its quads; with a few of its quads
+// stored reversed against their neighbours (parts merged, an exporter's clockwise faces) it still is,
+// read oriented as most of its faces, where it fell back to its triangles before (the working copy
+// re-oriented them and its quads no longer matched): the same cage as the layer stored whole.
+TEST(MlxScripts, QuadSimplificationReadsQuadsStoredReversedAsQuads) {
+  const std::string dir = e2e::OutPath("quads_reversed");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::QuadData cage = quadtest::CubeSphere(20);  // 2 400 quads on the unit sphere, made bumpy:
+  for (vcgext::Vec3& v : cage.V) v *= 1 + 0.08 * std::sin(4 * v[0]) * std::sin(4 * v[1]) * std::sin(4 * v[2]);
+  std::smatch mm[2];
+  std::string log[2];
+  for (int reversed : {0, 1}) {
+    if (reversed)
+      for (int f : {7, 800, 1999}) std::reverse(cage.F[f].begin(), cage.F[f].end());
+    const std::string in = dir + (reversed ? "/reversed.ply" : "/whole.ply");
+    ASSERT_EQ(vcgext::WriteQuadPly(in, cage), "");
+    auto r = e2e::Meshlabserver("-i " + e2e::Q(in) + " -o " + e2e::Q(dir + "/out.ply") + " -s " +
+                                e2e::Q(e2e::Script("quad_simplification.mlx")));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    log[reversed] = r.output;
+    EXPECT_NE(r.output.find("the layer is pure quads: simplifying its quads"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("stored reversed") != std::string::npos, reversed == 1) << r.output;
+    ASSERT_TRUE(std::regex_search(log[reversed], mm[reversed],
+                                  std::regex("-> ([0-9]+) patches, ([0-9]+) irregular vertices")))
+        << r.output;
+  }
+  EXPECT_NE(log[1].find("6 of the layer's triangles were stored reversed against their neighbours"), std::string::npos)
+      << log[1];
+  // The same quads, three of them starting at another corner: the same cage.
+  EXPECT_EQ(mm[1][1], mm[0][1]);
+  EXPECT_EQ(mm[1][2], mm[0][2]);
 }
 
 }  // namespace

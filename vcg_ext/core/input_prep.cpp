@@ -527,15 +527,28 @@ WorkingCopy PrepareWorkingCopyImpl(const TriData& raw, bool merge) {
 }  // namespace
 
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads) {
-  if (w.flippedFaces > 0 || w.splitVertices > 0 || w.closedTJunctions > 0) return false;
+  if (w.splitVertices > 0 || w.closedTJunctions > 0) return false;
+  // Each quad side must run as a side of one of the quad's own triangles in the working copy (the
+  // triangle on that side, the same way round, has its third corner among the quad's): the quads
+  // then bound the working copy's faces as it orients them (a layer whose faces the working copy
+  // turned is usable when the quads were read oriented the same way, ImportQuads' `flipped`). The
+  // working copy is manifold and oriented: each directed side belongs to one triangle at most.
+  std::unordered_map<uint64_t, int> third;
+  third.reserve(3 * w.mesh.F.size());
+  auto side = [](int a, int b) { return uint64_t(uint32_t(a)) << 32 | uint32_t(b); };
+  for (const Tri& f : w.mesh.F)
+    for (int k = 0; k < 3; ++k) third[side(f[k], f[(k + 1) % 3])] = f[(k + 2) % 3];
   for (Quad& q : quads) {
     for (int& v : q) {
       if (v < 0 || v >= int(w.liveToMesh.size()) || w.liveToMesh[v] < 0) return false;
       v = w.liveToMesh[v];
     }
-    for (int a = 0; a < 4; ++a)
+    for (int a = 0; a < 4; ++a) {
       for (int b = a + 1; b < 4; ++b)
         if (q[a] == q[b]) return false;
+      const auto t = third.find(side(q[a], q[(a + 1) % 4]));
+      if (t == third.end() || (t->second != q[(a + 2) % 4] && t->second != q[(a + 3) % 4])) return false;
+    }
   }
   return true;
 }

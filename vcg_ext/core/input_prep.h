@@ -94,8 +94,10 @@ std::vector<double> AttributeOnWorkingCopy(const WorkingCopy& w, const MeshType&
 
 /// Re-indexes quads given on the layer's live vertices (a polygonal layer's quads) onto the
 /// working copy. False (quads unusable: use the working copy's triangles) if a corner has no
-/// working vertex, a quad repeats a vertex after merging, faces were re-oriented or split at
-/// T-junctions, or vertices split.
+/// working vertex, a quad repeats a vertex after merging, a quad side runs as no working triangle's
+/// side does (a quad the working copy dropped, or one oriented against the face the working copy
+/// made of it: read the quads oriented, ImportQuads' `flipped`), faces were split at T-junctions,
+/// or vertices split.
 bool RemapQuadsToWorkingCopy(const WorkingCopy& w, std::vector<Quad>& quads);
 
 /// Precision of the coordinates PrepareWorkingCopy reads from a layer. MeshLab 2020.09 stores a

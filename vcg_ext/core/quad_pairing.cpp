@@ -127,6 +127,27 @@ std::string PairFauxHalves(const FauxHalves& h, QuadData& out, int* ambiguousRes
 
 namespace {
 
+// Why `shared` faux edges are run the same way by two triangles: edges of more than two triangles
+// (a non-manifold control mesh; what is left once the faces were oriented, OrientFauxTriangles), or
+// faces of inconsistent orientation.
+std::string SharedFauxEdgesError(const FauxTriangles& t, int shared) {
+  std::map<std::pair<int, int>, int> triangles;  // undirected edge -> triangles on it
+  for (const auto& f : t.tris)
+    for (int k = 0; k < 3; ++k) ++triangles[std::minmax(f[k], f[(k + 1) % 3])];
+  int nonManifold = 0;
+  for (size_t i = 0; i < t.tris.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (t.faux[i][k]) nonManifold += triangles[std::minmax(t.tris[i][k], t.tris[i][(k + 1) % 3])] > 2;
+  if (nonManifold > 0)
+    return std::to_string(shared) + " faux edges are run the same way by two triangles: " +
+           std::to_string(nonManifold) +
+           " triangles have a faux edge shared by more than two triangles (a non-manifold control mesh: Filters > "
+           "Cleaning and Repairing > Repair non Manifold Edges)";
+  return std::to_string(shared) +
+         " faux edges are run the same way by two triangles (faces of inconsistent orientation: Filters > "
+         "Normals, Curvatures and Orientation > Re-Orient all faces coherently)";
+}
+
 // The triangles of each polygon of `t` (joined across faux edges), in the order of their first
 // triangle; "" or what is wrong with the faux edges.
 std::string FauxGroups(const FauxTriangles& t, std::vector<std::vector<int>>& groups) {
@@ -142,10 +163,7 @@ std::string FauxGroups(const FauxTriangles& t, std::vector<std::vector<int>>& gr
     if (partner == fauxAt.end()) ++unpaired;
     else sets.Unite(i, partner->second);
   }
-  if (shared > 0)
-    return std::to_string(shared) +
-           " faux edges are run the same way by two triangles (faces of inconsistent orientation: Filters > "
-           "Normals, Curvatures and Orientation > Re-Orient all faces coherently) or shared by more than two";
+  if (shared > 0) return SharedFauxEdgesError(t, shared);
   if (unpaired > 0) return std::to_string(unpaired) + " faux edges have no consistently oriented partner triangle";
   std::vector<int> slot(n, -1);
   for (int i = 0; i < n; ++i) {
