@@ -85,9 +85,10 @@ namespace {
 // coincident boundary vertices welded (a cage exported with every face on its own vertices),
 // doublets (interior valence-2 vertices, which Catmull-Clark evaluation refuses: foreign quad
 // meshes such as MeshLab's triangle pairing and quad-dominant remeshers leave them) merged, as
-// the simplification does (§3.3.3). `faces` / `whose` name them in the log.
+// the simplification does (§3.3.3). `faces` / `whose` name them in the log. Fails on doublets no
+// merge removes (closed pieces of two faces: no Catmull-Clark surface has them).
 template <class ControlMesh>
-void CleanControl(GlueContext& ctx, ControlMesh& m, const std::string& faces, const std::string& whose) {
+bool CleanControl(GlueContext& ctx, ControlMesh& m, const std::string& faces, const std::string& whose) {
   vcgext::ApplyInputCoordinatePrecision(m.V);
   if (int nw = vcgext::WeldCoincidentVertices(m))
     ctx.log("Fit Catmull-Clark Surface: welded " + std::to_string(nw) +
@@ -95,6 +96,16 @@ void CleanControl(GlueContext& ctx, ControlMesh& m, const std::string& faces, co
   if (int nd = vcgext::RemoveDoublets(m))
     ctx.log("Fit Catmull-Clark Surface: merged " + std::to_string(nd) + " doublets (interior valence-2 vertices) of " +
             whose);
+  int first = -1;
+  if (int left = vcgext::CountDoublets(m, &first))
+    return ctx.Fail(
+        "the control mesh has " + std::to_string(left) +
+        " interior vertices of valence 2 that no merge removes (first: vertex " + std::to_string(first) +
+        "; merging the two faces round one would repeat a corner: a closed piece of two faces glued along all "
+        "their edges, what pairing the triangles of a tetrahedron or an octahedron makes). No Catmull-Clark "
+        "surface has such vertices: delete those pieces (Filters > Cleaning and Repairing > Remove Isolated "
+        "pieces (wrt Face Num.)), or make the control mesh from the reference with Fitmap Quad Simplification");
+  return true;
 }
 
 // The control layer's triangles the readers flipped to agree with their neighbours (ImportQuads'
@@ -122,7 +133,7 @@ bool SubdividedControl(GlueContext& ctx, MeshModel& control, const std::string& 
   if (sides[1] + sides[2] == 0)
     return ctx.Fail(quadErr + "; a layer of triangles only is no Catmull-Clark control mesh (Fitmap Quad "
                               "Simplification makes one from it)");
-  CleanControl(ctx, poly, "polygons", "the control mesh's polygons");
+  if (!CleanControl(ctx, poly, "polygons", "the control mesh's polygons")) return false;
   const std::string err = vcgext::SubdivideOnce(poly, quads);
   if (!err.empty()) return ctx.Fail("the control layer cannot be subdivided into quads: " + err);
   ctx.log("Fit Catmull-Clark Surface: the control layer has " + std::to_string(sides[0]) + " triangles and " +
@@ -142,8 +153,7 @@ bool ReadControlQuads(GlueContext& ctx, MeshModel& control, vcgext::QuadData& qu
   if (ambiguous > 0)
     ctx.log("Fit Catmull-Clark Surface: " + std::to_string(ambiguous) +
             " quad diagonals were shared by two quads (polygons fanned by an importer); paired by normal agreement");
-  CleanControl(ctx, quads, "quads", "the control mesh");
-  return true;
+  return CleanControl(ctx, quads, "quads", "the control mesh");
 }
 
 // The reference's working copy (input_prep.h): stray vertices are no surface to fit. Logs its

@@ -70,6 +70,40 @@ TEST(RemoveDoublets, LeavesCleanMeshesAndBoundaryCornersAlone) {
   EXPECT_EQ(s.F.size(), 1u);
 }
 
+// A closed piece of two quads glued along all four edges (a pillow: what pairing a tetrahedron's
+// triangles makes): its four corners are doublets no merge removes (the merged face would repeat
+// every corner). CountDoublets counts them after RemoveDoublets; it counts removable ones before,
+// and neither boundary corners nor a clean cube.
+TEST(CountDoublets, CountsTheDoubletsRemoveDoubletsCannotMerge) {
+  vcgext::QuadData pillow;
+  pillow.V = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {5, 5, 5}};  // vertex 4 unused
+  pillow.F = {{0, 1, 2, 3}, {3, 2, 1, 0}};
+  EXPECT_EQ(vcgext::RemoveDoublets(pillow), 0);
+  int first = -7;
+  EXPECT_EQ(vcgext::CountDoublets(pillow, &first), 4);
+  EXPECT_EQ(first, 0);
+  // Beside a cube: the cube's vertices are not counted, the pillow's are (shifted by 8).
+  auto q = Cube();
+  for (const auto& f : pillow.F) q.F.push_back({f[0] + 8, f[1] + 8, f[2] + 8, f[3] + 8});
+  for (int i = 0; i < 4; ++i) q.V.push_back(pillow.V[i]);
+  EXPECT_EQ(vcgext::CountDoublets(q, &first), 4);
+  EXPECT_EQ(first, 8);
+  // Removable doublets are counted until removed.
+  auto d = Cube();
+  InsertDoublet(d, 2);
+  EXPECT_EQ(vcgext::CountDoublets(d), 1);
+  EXPECT_EQ(vcgext::RemoveDoublets(d), 1);
+  EXPECT_EQ(vcgext::CountDoublets(d, &first), 0);
+  EXPECT_EQ(first, -1);
+  // An open quad's corners (valence 2, on the boundary) are no doublets; polygons alike.
+  vcgext::PolyData open;
+  open.V = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  open.F = {{0, 1, 2, 3}};
+  EXPECT_EQ(vcgext::CountDoublets(open), 0);
+  vcgext::PolyData two{open.V, {{0, 1, 2}, {2, 1, 0}}};  // two triangles glued: all three corners
+  EXPECT_EQ(vcgext::CountDoublets(two), 3);
+}
+
 }  // namespace
 
 namespace {

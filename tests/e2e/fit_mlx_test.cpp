@@ -346,6 +346,33 @@ TEST(MlxScripts, FitAndBakeOrientsQuadsStoredReversed) {
   EXPECT_LT(JsonNumber(json[1], "unprojectable_pct"), 0.5) << json[1];
 }
 
+// A control layer with a closed piece of two quads glued along all their edges (a pillow: what
+// pairing a tetrahedron's triangles makes) beside a cube-sphere cage: its corners are doublets no
+// merge removes and no Catmull-Clark surface has. The error says so in the user's terms and names
+// the filter that deletes such pieces (it named the library's RemoveDoublets before).
+TEST(MlxScripts, FitAndBakeRefusesAPillowInTheControlLayerSayingHowToDeleteIt) {
+  const std::string dir = e2e::OutPath("fit_pillow");
+  ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
+  vcgext::TMesh ref;
+  testsupport::ToVcg(testsupport::Icosphere(4), ref);
+  ASSERT_EQ(vcgext::SaveMesh(dir + "/sphere.off", ref), "");
+  vcgext::QuadData cage = CubeSphere(4);
+  const int b = int(cage.V.size());
+  for (int i = 0; i < 4; ++i) cage.V.push_back(vcgext::Vec3(3 + (i == 1 || i == 2), i >= 2, 0));
+  cage.F.push_back({b, b + 1, b + 2, b + 3});
+  cage.F.push_back({b + 3, b + 2, b + 1, b});
+  ASSERT_EQ(vcgext::WriteQuadPly(dir + "/control.ply", cage), "");
+  auto r = e2e::Meshlabserver("-i " + e2e::Q(dir + "/sphere.off") + " -i " + e2e::Q(dir + "/control.ply") +
+                              " -o " + e2e::Q(dir + "/out.ply") + " -s " + e2e::Q(e2e::Script("fit_and_bake.mlx")));
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("the control mesh has 4 interior vertices of valence 2 that no merge removes"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("Remove Isolated pieces (wrt Face Num.)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("vcgext::"), std::string::npos) << "no library names in a user's error: " << r.output;
+  EXPECT_TRUE(e2e::Slurp(dir + "/sphere_cc/report.json").empty());
+}
+
 TEST(MlxScripts, FitAndBakeRejectsTriangleControlLayer) {
   const std::string dir = e2e::OutPath("fit_bad");
   ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);

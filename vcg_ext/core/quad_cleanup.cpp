@@ -101,6 +101,34 @@ int RemoveDoublets(QuadData& q) { return RemoveDoubletsOf(q.V, q.F); }
 int RemoveDoublets(PolyData& p) { return RemoveDoubletsOf(p.V, p.F); }
 
 namespace {
+template <class Face>
+int CountDoubletsOf(size_t nV, const std::vector<Face>& faces, int* first) {
+  std::map<std::pair<int, int>, int> edgeUse;
+  for (const Face& f : faces)
+    for (size_t k = 0; k < f.size(); ++k) ++edgeUse[std::minmax(f[k], f[(k + 1) % f.size()])];
+  std::vector<int> valence(nV, 0);
+  std::vector<char> boundary(nV, 0);
+  for (const auto& [e, n] : edgeUse) {
+    ++valence[e.first];
+    ++valence[e.second];
+    if (n == 1) boundary[e.first] = boundary[e.second] = 1;
+  }
+  int count = 0;
+  if (first) *first = -1;
+  for (size_t v = 0; v < nV; ++v)
+    if (valence[v] == 2 && !boundary[v]) {
+      if (first && *first < 0) *first = int(v);
+      ++count;
+    }
+  return count;
+}
+}  // namespace
+
+int CountDoublets(const QuadData& q, int* first) { return CountDoubletsOf(q.V.size(), q.F, first); }
+
+int CountDoublets(const PolyData& p, int* first) { return CountDoubletsOf(p.V.size(), p.F, first); }
+
+namespace {
 // Whether every face has distinct corners and every edge is used by at most two faces, running
 // it in opposite directions.
 template <class Face>

@@ -16,6 +16,12 @@ int RemoveDoublets(QuadData& q);
 /// repeats a corner. A quad-dominant remesher (MeshLab's "Turn into Quad-Dominant mesh") leaves
 /// such vertices, which Catmull-Clark evaluation refuses.
 int RemoveDoublets(PolyData& p);
+/// Interior vertices of valence 2 (doublets: every edge at them shared by two faces) of a quad or
+/// polygonal mesh: after RemoveDoublets, those whose merge would repeat a corner (a closed piece
+/// of two faces glued along all their edges, what pairing a tetrahedron's triangles makes), which
+/// no Catmull-Clark surface has. `first` (when given): the lowest such vertex, or -1.
+int CountDoublets(const QuadData& q, int* first = nullptr);
+int CountDoublets(const PolyData& p, int* first = nullptr);
 
 /// Welds the boundary vertices of equal coordinates (bitwise) of a quad control mesh exported
 /// with every quad on its own vertices (an unwelded OBJ/STL-style export): without it each quad
