@@ -128,7 +128,9 @@ TEST(RunPipeline, WholePipelineOnElephantWritesConsistentOutputs) {
 // A pure-quad layer (a quad remesher's output) is simplified from its quads; with a few of its quads
 // stored reversed against their neighbours (parts merged, an exporter's clockwise faces) it still is,
 // read oriented as most of its faces, where it fell back to its triangles before (the working copy
-// re-oriented them and its quads no longer matched): the same cage as the layer stored whole.
+// re-oriented them and its quads no longer matched), into as many patches and irregular vertices
+// as the layer stored whole (not the same layout: the reversed quads start at other corners, and
+// the greedy order follows the order it is given; docs/robustness.md "Faces stored reversed").
 TEST(MlxScripts, QuadSimplificationReadsQuadsStoredReversedAsQuads) {
   const std::string dir = e2e::OutPath("quads_reversed");
   ASSERT_EQ(e2e::Run("mkdir -p " + e2e::Q(dir)).exitCode, 0);
@@ -153,7 +155,7 @@ TEST(MlxScripts, QuadSimplificationReadsQuadsStoredReversedAsQuads) {
   }
   EXPECT_NE(log[1].find("6 of the layer's triangles were stored reversed against their neighbours"), std::string::npos)
       << log[1];
-  // The same quads, three of them starting at another corner: the same cage.
+  // The same quads, three of them starting at another corner: as many patches and irregular vertices.
   EXPECT_EQ(mm[1][1], mm[0][1]);
   EXPECT_EQ(mm[1][2], mm[0][2]);
 }
